@@ -1,0 +1,133 @@
+//! The `pushmog` command line: a thin layer over the library.
+//!
+//! Exit codes: 0 on success, 1 when the input is invalid (the message names the culprit), 2 on a usage
+//! error (clap's convention).
+
+mod commands;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Plans fork pushes and multi-object grasps that clear a table of convex polygons in few trips.
+#[derive(Parser, Debug)]
+#[command(name = "pushmog", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Generate and check scenes.
+    #[command(subcommand)]
+    Scene(SceneCommand),
+    /// Draw a scene as SVG.
+    Render(RenderArgs),
+    /// Print the JSON Schema of a file format.
+    Schema {
+        /// Which format.
+        #[arg(value_enum)]
+        format: SchemaFormat,
+    },
+    /// Print the built-in object library as a Markdown table (or as an object-set JSON file).
+    Library {
+        /// Write the object set as JSON instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Output file (default: standard output).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Generate a seeded scene, check it and draw it: the quick tour of what pushmog does today.
+    Demo {
+        /// Folder for scene.json and scene.svg.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Seed of the scene.
+        #[arg(long, default_value_t = 7)]
+        seed: u64,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum SceneCommand {
+    /// Generate a seeded random scene as the Push-MOG paper did (same seed, same bytes).
+    Generate(GenerateArgs),
+    /// Validate a scene and print each object's minimum grasp diameter.
+    Check {
+        /// Scene file (`-` for standard input).
+        scene: PathBuf,
+    },
+}
+
+#[derive(Args, Debug)]
+struct GenerateArgs {
+    /// Number of objects.
+    #[arg(long, default_value_t = 34)]
+    objects: usize,
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Workspace width (x extent) in metres.
+    #[arg(long, default_value_t = 0.6)]
+    width: f64,
+    /// Workspace depth (y extent) in metres.
+    #[arg(long, default_value_t = 0.45)]
+    depth: f64,
+    /// Object set JSON file (default: the built-in 34 objects).
+    #[arg(long)]
+    object_set: Option<PathBuf>,
+    /// Position samples to draw before giving up.
+    #[arg(long, default_value_t = 100_000)]
+    max_samples: usize,
+    /// Output file (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct RenderArgs {
+    /// Scene file (`-` for standard input).
+    scene: PathBuf,
+    /// Output SVG file (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Pixels per metre.
+    #[arg(long, default_value_t = 1500.0)]
+    scale: f64,
+    /// Leave out the object ids.
+    #[arg(long)]
+    no_ids: bool,
+    /// Draw each object's narrowest grasp.
+    #[arg(long)]
+    grasp_diameters: bool,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum SchemaFormat {
+    /// A scene file.
+    Scene,
+    /// An object-set file.
+    ObjectSet,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Scene(SceneCommand::Generate(args)) => commands::generate(&args),
+        Command::Scene(SceneCommand::Check { scene }) => commands::check(&scene),
+        Command::Render(args) => commands::render(&args),
+        Command::Schema { format } => commands::schema(format),
+        Command::Library { json, output } => commands::library(json, output.as_deref()),
+        Command::Demo { out, seed } => commands::demo(&out, seed),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(1)
+        }
+    }
+}

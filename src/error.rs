@@ -1,0 +1,119 @@
+//! The crate's error type. `Err` means misuse or an environment fault (invalid input, I/O); a planner
+//! that finds no answer reports that as a status inside `Ok`.
+
+use std::path::PathBuf;
+
+use crate::scene::ObjectId;
+
+/// Everything that can go wrong in pushmog, each variant naming the culprit.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// One field of one object is invalid.
+    #[error("object {id} (entry {index} of `objects`): field `{field}`: {reason}")]
+    InvalidObject {
+        /// The object's id.
+        id: ObjectId,
+        /// Its position in the `objects` list.
+        index: usize,
+        /// The offending field (`vertices`, `pose`, `height`, `mass`).
+        field: &'static str,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// Two objects share an id.
+    #[error("object id {id} is used twice: entries {first} and {second} of `objects`")]
+    DuplicateId {
+        /// The repeated id.
+        id: ObjectId,
+        /// Position of the first use.
+        first: usize,
+        /// Position of the second use.
+        second: usize,
+    },
+    /// Two objects overlap at their poses.
+    #[error(
+        "objects {first} and {second} overlap: they interpenetrate by {:.3} mm (field `pose`)",
+        depth * 1e3
+    )]
+    Overlap {
+        /// One object.
+        first: ObjectId,
+        /// The other.
+        second: ObjectId,
+        /// Penetration depth in metres.
+        depth: f64,
+    },
+    /// A field of a component other than an object (workspace, gripper, a settings struct) is invalid.
+    #[error("{component}: field `{field}`: {reason}")]
+    InvalidField {
+        /// The component (`workspace`, `gripper`, `generator`, …).
+        component: String,
+        /// The offending field.
+        field: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A JSON document could not be read into the expected type.
+    #[error("{source_name}: invalid JSON at line {line}, column {column}{}: {message}",
+        if path.is_empty() || path == "." { String::new() } else { format!(" (at `{path}`)") })]
+    Json {
+        /// Where the document came from (a file path or `<stdin>`).
+        source_name: String,
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// Path of the offending field inside the document, e.g. `objects[3].vertices[1]`.
+        path: String,
+        /// What the parser says.
+        message: String,
+    },
+    /// The scene generator could not place all objects.
+    #[error(
+        "scene generator: placed only {placed} of {requested} objects after {samples} samples: circles \
+         of radius {:.1} mm do not fit the {:.3} m × {:.3} m workspace; use a larger workspace or fewer \
+         objects",
+        radius * 1e3, width, depth
+    )]
+    Placement {
+        /// Objects asked for.
+        requested: usize,
+        /// Objects placed before giving up.
+        placed: usize,
+        /// Position samples drawn in total.
+        samples: usize,
+        /// Radius in metres of the circle kept clear around each object.
+        radius: f64,
+        /// Workspace width (x extent) in metres.
+        width: f64,
+        /// Workspace depth (y extent) in metres.
+        depth: f64,
+    },
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+}
+
+/// `Result` with the crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// An [`Error::InvalidField`] for a component other than an object.
+    pub fn field(
+        component: impl Into<String>,
+        field: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        Self::InvalidField {
+            component: component.into(),
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+}

@@ -1,0 +1,21 @@
+//! Plane geometry of extruded convex objects: polygons, widths, grasp diameters, separation, contact.
+//!
+//! Everything is in metres and radians, in the right-handed table frame seen from above (x, y).
+//!
+//! - [`ConvexPolygon`]: validated, counter-clockwise vertices; area, area centroid, support function
+//!   `h(d) = max_v v·d` and width `w(u) = h(u) + h(−u)` along a unit direction `u`.
+//! - [`min_grasp_diameter`]: the narrowest stable two-jaw grasp, `d* = min_θ w(θ)`, by rotating calipers
+//!   (the stable-contact argument is in that module's docs).
+//! - [`separating_line`]: whether two point sets are split by a line (object centroids of two clusters).
+//! - [`distance`], [`penetration_depth`], [`overlap`]: polygon–polygon queries through parry2d-f64, the
+//!   only place in the crate that uses parry.
+
+mod grasp_diameter;
+mod polygon;
+mod queries;
+mod separation;
+
+pub use grasp_diameter::{GraspDiameter, min_grasp_diameter};
+pub use polygon::{ConvexPolygon, PolygonError, cross};
+pub use queries::{distance, overlap, penetration_depth, point_distance};
+pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};

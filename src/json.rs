@@ -1,0 +1,210 @@
+//! Reading and writing JSON documents (scenes, object sets, settings) with errors that say where.
+//!
+//! Parse errors give the line, the column and the path of the offending field
+//! (`objects[3].vertices[1]`), found with `serde_path_to_error`; a scene that parses is then validated
+//! by [`Scene::new`], whose errors name the object and the field.
+//!
+//! Documents are written by [`to_json`]: indented objects, with arrays of numbers (coordinates, vertex
+//! lists) kept on one line so a scene stays readable.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use serde_json::Value;
+
+use crate::error::{Error, Result};
+use crate::scene::{Scene, SceneSpec};
+
+/// Parses `text` as a `T`; `source_name` (a path or `<stdin>`) goes into error messages.
+///
+/// # Errors
+/// [`Error::Json`] with line, column and field path.
+pub fn from_json<T: DeserializeOwned>(text: &str, source_name: &str) -> Result<T> {
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    let to_error = |path: String, inner: serde_json::Error| Error::Json {
+        source_name: source_name.to_string(),
+        line: inner.line(),
+        column: inner.column(),
+        path,
+        message: strip_position(&inner.to_string()),
+    };
+    let value: T = serde_path_to_error::deserialize(&mut deserializer)
+        .map_err(|e| to_error(known_path(&e.path().to_string()), e.into_inner()))?;
+    deserializer.end().map_err(|e| to_error(String::new(), e))?;
+    Ok(value)
+}
+
+/// The path without the `?` segments serde_path_to_error writes where the parser lost track of the
+/// field (after a syntax error).
+fn known_path(path: &str) -> String {
+    path.split('.')
+        .filter(|segment| *segment != "?")
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
+/// serde_json appends " at line L column C" to its messages; the error type reports those itself.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(cut) => message[..cut].to_string(),
+        None => message.to_string(),
+    }
+}
+
+/// Parses and validates a scene.
+///
+/// # Errors
+/// [`Error::Json`] for malformed JSON or a field of the wrong type; the validation errors of
+/// [`Scene::new`] otherwise.
+pub fn scene_from_json(text: &str, source_name: &str) -> Result<Scene> {
+    let spec: SceneSpec = from_json(text, source_name)?;
+    Scene::new(spec)
+}
+
+/// Reads a whole file as text.
+///
+/// # Errors
+/// [`Error::Io`] naming the path.
+pub fn read_text(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Reads, parses and validates a scene file.
+///
+/// # Errors
+/// As [`read_text`] and [`scene_from_json`].
+pub fn read_scene(path: &Path) -> Result<Scene> {
+    scene_from_json(&read_text(path)?, &path.display().to_string())
+}
+
+/// Writes `text` to `path`, creating parent folders.
+///
+/// # Errors
+/// [`Error::Io`] naming the path.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    if let Some(parent) = path.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent).map_err(io)?;
+    }
+    std::fs::write(path, text).map_err(io)
+}
+
+/// Serialises `value` as indented JSON with numeric arrays on one line, ending in a newline.
+///
+/// Numbers are written in the shortest form that reads back to the same `f64`, so a document
+/// round-trips exactly.
+pub fn to_json<T: Serialize>(value: &T) -> String {
+    // Serialising the crate's own types to a Value cannot fail: every map key is a string and every
+    // float is finite in a validated value. A non-finite float becomes `null`.
+    let value = serde_json::to_value(value).unwrap_or(Value::Null);
+    let mut out = String::new();
+    write_value(&mut out, &value, 0);
+    out.push('\n');
+    out
+}
+
+/// Whether a value is written on one line: arrays of scalars or of scalar arrays, and small objects of
+/// scalars (a pose, a gripper).
+fn is_flat(value: &Value) -> bool {
+    let scalar = |v: &Value| !v.is_array() && !v.is_object();
+    match value {
+        Value::Object(map) => map.len() <= 4 && map.values().all(scalar),
+        Value::Array(items) => items.iter().all(|item| match item {
+            Value::Array(inner) => inner.iter().all(scalar),
+            Value::Object(_) => false,
+            _ => true,
+        }),
+        _ => true,
+    }
+}
+
+fn write_value(out: &mut String, value: &Value, indent: usize) {
+    let pad = |n: usize| "  ".repeat(n);
+    match value {
+        Value::Object(map) if map.is_empty() => out.push_str("{}"),
+        Value::Object(map) if is_flat(value) => {
+            out.push('{');
+            for (k, (key, item)) in map.iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                let _ = write!(out, "{}: {item}", Value::String(key.clone()));
+            }
+            out.push('}');
+        }
+        Value::Object(map) => {
+            out.push_str("{\n");
+            for (k, (key, item)) in map.iter().enumerate() {
+                let _ = write!(out, "{}{}: ", pad(indent + 1), Value::String(key.clone()));
+                write_value(out, item, indent + 1);
+                out.push_str(if k + 1 < map.len() { ",\n" } else { "\n" });
+            }
+            let _ = write!(out, "{}}}", pad(indent));
+        }
+        Value::Array(items) if items.is_empty() => out.push_str("[]"),
+        Value::Array(items) if is_flat(value) => {
+            out.push('[');
+            for (k, item) in items.iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                write_value(out, item, indent);
+            }
+            out.push(']');
+        }
+        Value::Array(items) => {
+            out.push_str("[\n");
+            for (k, item) in items.iter().enumerate() {
+                out.push_str(&pad(indent + 1));
+                write_value(out, item, indent + 1);
+                out.push_str(if k + 1 < items.len() { ",\n" } else { "\n" });
+            }
+            let _ = write!(out, "{}]", pad(indent));
+        }
+        scalar => {
+            let _ = write!(out, "{scalar}");
+        }
+    }
+}
+
+/// The JSON Schema of the scene format.
+pub fn scene_schema() -> Value {
+    serde_json::to_value(schemars::schema_for!(SceneSpec)).unwrap_or(Value::Null)
+}
+
+/// The JSON Schema of the object-set format.
+pub fn object_set_schema() -> Value {
+    serde_json::to_value(schemars::schema_for!(crate::scene::ObjectSet)).unwrap_or(Value::Null)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_give_line_column_and_path() {
+        let text = "{\n  \"workspace\": {\"min\": [0, 0], \"max\": [1, 1]},\n  \"objects\": [\n    {\"id\": 0, \"vertices\": [[0, 0], [1, \"x\"]], \"height\": 0.03, \"pose\": {\"x\": 0, \"y\": 0, \"yaw\": 0}}\n  ]\n}\n";
+        let err = scene_from_json(text, "t.json").unwrap_err();
+        let message = err.to_string();
+        assert!(message.contains("line 4"), "{message}");
+        assert!(message.contains("objects[0].vertices[1]"), "{message}");
+    }
+
+    #[test]
+    fn numeric_arrays_stay_on_one_line() {
+        let value = serde_json::json!({"a": [[1.5, 2.0], [3.0, 4.0]], "b": {"c": [1, 2]}});
+        let text = to_json(&value);
+        assert!(text.contains("\"a\": [[1.5, 2.0], [3.0, 4.0]]"), "{text}");
+        assert_eq!(serde_json::from_str::<Value>(&text).unwrap(), value);
+    }
+}

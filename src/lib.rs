@@ -1,0 +1,31 @@
+//! # pushmog
+//!
+//! Plans how a robot with a parallel-jaw gripper clears a table of extruded convex polygons into a bin
+//! in as few trips as possible. Objects are grouped into clusters whose summed minimum grasp diameters
+//! fit between the jaws, each cluster is pushed tight with *fork pushes* (jaws partly open, jaw line
+//! perpendicular to the push), and the tight row is lifted in one multi-object grasp. The metric is
+//! objects per trip (OpT). The method follows the Push-MOG paper (Aeron et al., CASE 2023); pushmog keeps
+//! its heuristics as baselines and adds optimal planners, a physics simulator and an experiment runner.
+//!
+//! This release holds the foundation every planner stands on:
+//! - [`geometry`]: convex polygons, minimum grasp diameters, separating lines, distances (parry2d).
+//! - [`scene`]: objects, the gripper, the workspace and the validated [`Scene`]; the built-in object
+//!   library and the seeded scene generator.
+//! - [`render`]: SVG drawings of scenes.
+//! - [`json`]: reading and writing scenes with errors that give line, column and field.
+//!
+//! ```
+//! use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+//! let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 7).unwrap();
+//! assert_eq!(scene.objects().len(), 34);
+//! ```
+
+pub mod error;
+pub mod geometry;
+pub mod json;
+pub mod random;
+pub mod render;
+pub mod scene;
+
+pub use error::{Error, Result};
+pub use scene::Scene;

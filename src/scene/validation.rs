@@ -1,0 +1,194 @@
+//! The checks [`Scene`](super::Scene) runs once at construction, each failing with an error that names
+//! the object and the field.
+
+use std::collections::HashMap;
+
+use nalgebra::Point2;
+
+use super::object::{Object, ObjectSpec};
+use super::workspace::Workspace;
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, min_grasp_diameter, penetration_depth};
+
+/// Largest interpenetration of two objects still accepted as touching, metres (1 µm). Objects pushed
+/// into a tight row touch; solvers place them to within this.
+pub const OVERLAP_TOLERANCE: f64 = 1e-6;
+
+/// Largest distance a vertex may lie outside the workspace, metres (1 nm, rounding only).
+pub const OUTSIDE_TOLERANCE: f64 = 1e-9;
+
+/// Builds a validated object from its JSON form; `index` is its position in the `objects` list.
+pub(super) fn object_from_spec(index: usize, spec: ObjectSpec) -> Result<Object> {
+    let vertices: Vec<Point2<f64>> = spec
+        .vertices
+        .iter()
+        .map(|&[x, y]| Point2::new(x, y))
+        .collect();
+    let polygon = ConvexPolygon::new(vertices).map_err(|e| Error::InvalidObject {
+        id: spec.id,
+        index,
+        field: "vertices",
+        reason: e.to_string(),
+    })?;
+    Ok(Object {
+        id: spec.id,
+        name: spec.name,
+        polygon,
+        pose: spec.pose,
+        height: spec.height,
+        mass: spec.mass,
+    })
+}
+
+/// Field checks per object, unique ids, containment in the workspace, no overlaps.
+pub(super) fn check_objects(
+    workspace: &Workspace,
+    objects: &[Object],
+    world: &[ConvexPolygon],
+) -> Result<()> {
+    for (index, object) in objects.iter().enumerate() {
+        check_fields(index, object)?;
+    }
+    let mut first_use = HashMap::new();
+    for (index, object) in objects.iter().enumerate() {
+        if let Some(&first) = first_use.get(&object.id) {
+            return Err(Error::DuplicateId {
+                id: object.id,
+                first,
+                second: index,
+            });
+        }
+        first_use.insert(object.id, index);
+    }
+    for (index, (object, outline)) in objects.iter().zip(world).enumerate() {
+        check_scale(workspace, index, object)?;
+        check_inside(workspace, index, object, outline)?;
+    }
+    check_overlaps(objects, world)
+}
+
+fn invalid(index: usize, object: &Object, field: &'static str, reason: String) -> Error {
+    Error::InvalidObject {
+        id: object.id,
+        index,
+        field,
+        reason,
+    }
+}
+
+fn check_fields(index: usize, object: &Object) -> Result<()> {
+    if !object.pose.is_finite() {
+        return Err(invalid(
+            index,
+            object,
+            "pose",
+            format!("x, y and yaw must be finite, got {:?}", object.pose),
+        ));
+    }
+    if !(object.height.is_finite() && object.height > 0.0) {
+        return Err(invalid(
+            index,
+            object,
+            "height",
+            format!(
+                "must be a positive finite number of metres, got {}",
+                object.height
+            ),
+        ));
+    }
+    if let Some(mass) = object.mass
+        && !(mass.is_finite() && mass > 0.0)
+    {
+        return Err(invalid(
+            index,
+            object,
+            "mass",
+            format!("must be a positive finite number of kilograms, got {mass}"),
+        ));
+    }
+    Ok(())
+}
+
+/// An outline that cannot fit the workspace in any pose is almost always given in the wrong unit.
+fn check_scale(workspace: &Workspace, index: usize, object: &Object) -> Result<()> {
+    let polygon = &object.polygon;
+    let span = polygon
+        .vertices()
+        .iter()
+        .flat_map(|a| polygon.vertices().iter().map(move |b| (a - b).norm()))
+        .fold(0.0, f64::max);
+    let narrowest = min_grasp_diameter(polygon).diameter;
+    let shorter_side = workspace.width().min(workspace.depth());
+    if span > workspace.diagonal() || narrowest > shorter_side {
+        return Err(invalid(
+            index,
+            object,
+            "vertices",
+            format!(
+                "the outline ({span:.3} m across) is larger than the {:.3} m × {:.3} m workspace; \
+                 lengths are in metres (were millimetres given?)",
+                workspace.width(),
+                workspace.depth()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn check_inside(
+    workspace: &Workspace,
+    index: usize,
+    object: &Object,
+    outline: &ConvexPolygon,
+) -> Result<()> {
+    for (vertex, point) in outline.vertices().iter().enumerate() {
+        let outside = workspace.outside_by(point);
+        if outside > OUTSIDE_TOLERANCE {
+            return Err(invalid(
+                index,
+                object,
+                "pose",
+                format!(
+                    "vertex {vertex} lies at ({:.4}, {:.4}) m, {:.2} mm outside the workspace \
+                     [{}, {}] × [{}, {}]",
+                    point.x,
+                    point.y,
+                    outside * 1e3,
+                    workspace.min[0],
+                    workspace.max[0],
+                    workspace.min[1],
+                    workspace.max[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn check_overlaps(objects: &[Object], world: &[ConvexPolygon]) -> Result<()> {
+    let circles: Vec<(Point2<f64>, f64)> = world
+        .iter()
+        .map(|outline| {
+            let center = outline.centroid();
+            (center, outline.radius_about(&center))
+        })
+        .collect();
+    for i in 0..objects.len() {
+        for j in i + 1..objects.len() {
+            let (ci, ri) = circles[i];
+            let (cj, rj) = circles[j];
+            if (ci - cj).norm() > ri + rj {
+                continue;
+            }
+            let depth = penetration_depth(&world[i], &world[j]);
+            if depth > OVERLAP_TOLERANCE {
+                return Err(Error::Overlap {
+                    first: objects[i].id,
+                    second: objects[j].id,
+                    depth,
+                });
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,248 @@
+//! The command line: exit codes, messages that name the culprit, byte-identical generation.
+
+use crate::support::{fixture, pushmog, scratch};
+
+/// Every bad-input class gives exit code 1 and a message naming the culprit (object and field, or the
+/// JSON position).
+#[test]
+fn bad_input_exits_1_and_names_the_culprit() {
+    let cases: &[(&str, &[&str])] = &[
+        (
+            "too-few-vertices",
+            &["object 4", "`vertices`", "at least 3 vertices"],
+        ),
+        (
+            "infinite-coordinate",
+            &["line 17", "objects[0].vertices[0][0]", "out of range"],
+        ),
+        (
+            "non-convex",
+            &["object 5", "`vertices`", "not convex", "vertex 2"],
+        ),
+        (
+            "self-intersecting",
+            &["object 6", "`vertices`", "intersects itself"],
+        ),
+        (
+            "collinear-vertex",
+            &["object 7", "`vertices`", "vertex 1 is collinear"],
+        ),
+        ("zero-area", &["object 8", "`vertices`", "zero area"]),
+        ("duplicate-ids", &["object id 2", "entries 1 and 2"]),
+        ("overlapping", &["objects 2 and 9 overlap"]),
+        (
+            "outside-workspace",
+            &["object 10", "`pose`", "outside the workspace"],
+        ),
+        ("malformed", &["line 34, column 7", "objects[0]"]),
+        (
+            "absurd-scale",
+            &["object 11", "`vertices`", "larger than the", "millimetres"],
+        ),
+        ("negative-height", &["object 12", "`height`"]),
+        ("wrong-type", &["objects[0].height", "invalid type"]),
+        ("unknown-field", &["objects[0].heigth", "unknown field"]),
+        ("bad-gripper", &["gripper", "`plate_thickness`"]),
+        ("bad-workspace", &["workspace", "`max`"]),
+    ];
+    for (name, expected) in cases {
+        let path = fixture(&format!("bad/{name}.json"));
+        let output = pushmog(&["scene", "check", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{name}: {stderr}");
+        for part in *expected {
+            assert!(
+                stderr.contains(part),
+                "{name}: `{part}` missing from: {stderr}"
+            );
+        }
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+        // Rendering refuses the same input the same way.
+        let render = pushmog(&["render", path.to_str().unwrap()]);
+        assert_eq!(render.status.code(), Some(1), "render {name}");
+    }
+}
+
+#[test]
+fn every_bad_fixture_is_covered() {
+    let listed = std::fs::read_dir(fixture("bad")).unwrap().count();
+    assert_eq!(
+        listed, 16,
+        "add new fixtures to bad_input_exits_1_and_names_the_culprit"
+    );
+}
+
+#[test]
+fn ungraspable_objects_are_accepted_but_flagged() {
+    let path = fixture("good/ungraspable.json");
+    let output = pushmog(&["scene", "check", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("NO: wider than the 75.0 mm gap"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("1 of 3 objects ungraspable (ids 3)"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn check_prints_each_minimum_grasp_diameter() {
+    let path = fixture("good/minimal.json");
+    let output = pushmog(&["scene", "check", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    // Two 30 mm squares.
+    assert_eq!(stdout.matches("  30.00  yes").count(), 2, "{stdout}");
+}
+
+#[test]
+fn usage_errors_exit_2_and_help_exits_0() {
+    assert_eq!(pushmog(&["scene", "check"]).status.code(), Some(2));
+    assert_eq!(pushmog(&["no-such-command"]).status.code(), Some(2));
+    assert_eq!(
+        pushmog(&["scene", "generate", "--objects", "many"])
+            .status
+            .code(),
+        Some(2)
+    );
+    for args in [
+        &["--help"][..],
+        &["scene", "--help"],
+        &["scene", "generate", "--help"],
+        &["scene", "check", "--help"],
+        &["render", "--help"],
+        &["schema", "--help"],
+        &["library", "--help"],
+        &["demo", "--help"],
+    ] {
+        let output = pushmog(args);
+        assert_eq!(output.status.code(), Some(0), "{args:?}");
+        assert!(String::from_utf8_lossy(&output.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn missing_files_exit_1_with_the_path() {
+    let output = pushmog(&["scene", "check", "/no/such/scene.json"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("/no/such/scene.json"));
+}
+
+#[test]
+fn generate_is_byte_identical_per_seed() {
+    let dir = scratch("generate");
+    let run = |seed: &str, file: &str| {
+        let path = dir.join(file);
+        let output = pushmog(&[
+            "scene",
+            "generate",
+            "--objects",
+            "34",
+            "--seed",
+            seed,
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(output.status.code(), Some(0));
+        std::fs::read(path).unwrap()
+    };
+    let first = run("7", "a.json");
+    assert_eq!(first, run("7", "b.json"));
+    assert_ne!(first, run("8", "c.json"));
+    // Standard output carries the same bytes.
+    let stdout = pushmog(&["scene", "generate", "--seed", "7"]).stdout;
+    assert_eq!(first, stdout);
+}
+
+#[test]
+fn generate_reports_scenes_that_cannot_fit() {
+    let output = pushmog(&[
+        "scene",
+        "generate",
+        "--objects",
+        "200",
+        "--width",
+        "0.3",
+        "--depth",
+        "0.3",
+        "--max-samples",
+        "2000",
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("placed only"));
+}
+
+#[test]
+fn render_draws_every_object_with_its_id_and_a_scale_bar() {
+    let dir = scratch("render");
+    let scene = dir.join("scene.json");
+    let svg = dir.join("scene.svg");
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "3",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let output = pushmog(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+        "--grasp-diameters",
+    ]);
+    assert_eq!(output.status.code(), Some(0));
+    let text = std::fs::read_to_string(svg).unwrap();
+    assert!(text.starts_with("<svg"));
+    // Workspace plus 34 objects.
+    assert_eq!(text.matches("<polygon").count(), 35);
+    assert!(text.contains("class=\"scale-bar\""));
+    for id in 0..34 {
+        assert!(text.contains(&format!(">{id}</text>")), "id {id}");
+    }
+}
+
+#[test]
+fn schemas_are_json_and_describe_the_fields() {
+    for (format, field) in [("scene", "workspace"), ("object-set", "objects")] {
+        let output = pushmog(&["schema", format]);
+        assert_eq!(output.status.code(), Some(0));
+        let schema: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+        assert!(
+            schema["properties"][field].is_object(),
+            "{format}: {schema}"
+        );
+    }
+}
+
+#[test]
+fn exported_library_generates_the_same_scene() {
+    let dir = scratch("library");
+    let set = dir.join("set.json");
+    let output = pushmog(&["library", "--json", "-o", set.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    let builtin = pushmog(&["scene", "generate", "--seed", "4"]).stdout;
+    let loaded = pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "4",
+        "--object-set",
+        set.to_str().unwrap(),
+    ])
+    .stdout;
+    assert_eq!(builtin, loaded);
+}
+
+#[test]
+fn demo_writes_a_scene_and_a_drawing() {
+    let dir = scratch("demo");
+    let output = pushmog(&["demo", "--out", dir.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    assert!(dir.join("scene.json").exists());
+    assert!(dir.join("scene.svg").exists());
+}
