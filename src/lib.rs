@@ -20,9 +20,15 @@
 //! assert_eq!(scene.objects().len(), 34);
 //! ```
 
+pub mod cluster;
 pub mod error;
+pub mod exec;
 pub mod geometry;
+pub mod grasp;
 pub mod json;
+pub mod plan;
+pub mod policy;
+pub mod push;
 pub mod random;
 pub mod render;
 pub mod scene;

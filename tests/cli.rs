@@ -117,6 +117,9 @@ fn usage_errors_exit_2_and_help_exits_0() {
         &["schema", "--help"],
         &["library", "--help"],
         &["demo", "--help"],
+        &["plan", "--help"],
+        &["run", "--help"],
+        &["verify", "--help"],
     ] {
         let output = pushmog(args);
         assert_eq!(output.status.code(), Some(0), "{args:?}");
@@ -243,6 +246,120 @@ fn demo_writes_a_scene_and_a_drawing() {
     let dir = scratch("demo");
     let output = pushmog(&["demo", "--out", dir.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(0));
-    assert!(dir.join("scene.json").exists());
-    assert!(dir.join("scene.svg").exists());
+    for file in ["scene.json", "scene.svg", "plan.json", "plan.svg"] {
+        assert!(dir.join(file).exists(), "{file}");
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("| push-mog |"), "{stdout}");
+}
+
+#[test]
+fn plan_run_verify_and_render_a_plan() {
+    let dir = scratch("plan");
+    let scene = dir.join("scene.json");
+    let plan = dir.join("plan.json");
+    let svg = dir.join("plan.svg");
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "2",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let output = pushmog(&[
+        "plan",
+        scene.to_str().unwrap(),
+        "--policy",
+        "push-mog",
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let verified = pushmog(&["verify", plan.to_str().unwrap()]);
+    assert_eq!(verified.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&verified.stdout).contains("no violations"));
+    let drawn = pushmog(&[
+        "render",
+        plan.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(drawn.status.code(), Some(0));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("class=\"trip-1\""));
+    for policy in ["sog", "mog", "push-mog"] {
+        let output = pushmog(&["run", scene.to_str().unwrap(), "--policy", policy]);
+        assert_eq!(output.status.code(), Some(0), "{policy}");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        for field in [
+            "trips",
+            "objects per trip",
+            "failed grasps",
+            "status            cleared",
+        ] {
+            assert!(stdout.contains(field), "{policy}: {stdout}");
+        }
+    }
+}
+
+#[test]
+fn unknown_policies_and_executors_are_named() {
+    let scene = fixture("good/minimal.json");
+    let output = pushmog(&["run", scene.to_str().unwrap(), "--policy", "greedy"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("unknown policy `greedy`"));
+    let output = pushmog(&["run", scene.to_str().unwrap(), "--executor", "robot"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("unknown executor `robot`"));
+}
+
+#[test]
+fn a_tampered_plan_fails_verification() {
+    let dir = scratch("tampered");
+    let scene = dir.join("scene.json");
+    let plan = dir.join("plan.json");
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "5",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    pushmog(&[
+        "plan",
+        scene.to_str().unwrap(),
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    let mut value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
+    // Move the first grasp's jaws onto the middle of its first object: a plate now lands on it or
+    // the row no longer lies between the plates.
+    let trip = &mut value["trips"][0];
+    let id = trip["grasp"]["objects"][0].as_u64().unwrap();
+    let object = trip["scene"]["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["id"].as_u64() == Some(id))
+        .unwrap()
+        .clone();
+    let (x, y) = (
+        object["pose"]["x"].as_f64().unwrap(),
+        object["pose"]["y"].as_f64().unwrap(),
+    );
+    let half = trip["grasp"]["jaws"]["opening"].as_f64().unwrap() / 2.0;
+    trip["grasp"]["jaws"]["center"] = serde_json::json!([x + half, y]);
+    trip["grasp"]["jaws"]["angle"] = serde_json::json!(0.0);
+    std::fs::write(&plan, serde_json::to_string(&value).unwrap()).unwrap();
+    let output = pushmog(&["verify", plan.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("trip 0: grasp"));
 }

@@ -5,7 +5,8 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{Isometry2, Point2, Vector2};
 use proptest::prelude::*;
 use pushmog::geometry::{
-    ConvexPolygon, are_separable, convex_hull, min_grasp_diameter, separating_line,
+    ConvexPolygon, are_separable, cast_distance, convex_hull, distance, min_grasp_diameter,
+    penetration_depth, separating_line,
 };
 
 fn width_at(polygon: &ConvexPolygon, angle: f64) -> f64 {
@@ -182,5 +183,28 @@ proptest! {
             }
         }
         prop_assert_eq!(are_separable(&a, &b, 0.0), are_separable(&b, &a, 0.0));
+    }
+
+    #[test]
+    fn sliding_stops_exactly_at_contact(a in convex_polygon(), b in convex_polygon(), angle in 0.0..TAU) {
+        let (Ok(a), Ok(b)) = (ConvexPolygon::new(a), ConvexPolygon::new(b)) else { return Ok(()); };
+        // Start apart: move `a` 0.2 m against the direction of travel.
+        let d = Vector2::new(angle.cos(), angle.sin());
+        let a = a.translated(&(-d * 0.2 + (b.centroid() - a.centroid())));
+        prop_assume!(penetration_depth(&a, &b) == 0.0);
+        match cast_distance(&a, &d, 1.0, &b) {
+            Some(t) => {
+                // Just before: apart (positive distance by GJK); just after: interpenetrating.
+                prop_assert!(distance(&a.translated(&(d * (t - 1e-6).max(0.0))), &b) > 0.0 || t < 1e-6);
+                prop_assert!(penetration_depth(&a.translated(&(d * (t + 1e-6))), &b) > 0.0);
+                prop_assert!(distance(&a.translated(&(d * t)), &b) < 1e-9);
+            }
+            None => {
+                for k in 0..=100 {
+                    let moved = a.translated(&(d * (k as f64 / 100.0)));
+                    prop_assert!(penetration_depth(&moved, &b) < 1e-9);
+                }
+            }
+        }
     }
 }

@@ -1,8 +1,10 @@
 //! Integration tests of pushmog: one test binary, one module per subject.
 #![allow(clippy::unwrap_used)]
 
+mod baselines;
 mod cli;
 mod generator;
 mod geometry_properties;
+mod policies;
 mod scene_json;
 mod support;

@@ -122,6 +122,45 @@ pub fn min_grasp_diameter(polygon: &ConvexPolygon) -> GraspDiameter {
     }
 }
 
+/// Every stable edge-flush grasp of a polygon: for each edge, the jaw flush with it and the other jaw on
+/// the furthest vertex, kept when the perpendicular from that vertex lands on the edge (kinds (a) and
+/// (b) of the module docs). The narrowest is [`min_grasp_diameter`]. `O(n²)`, for the handful of
+/// vertices of an object.
+pub fn edge_grasps(polygon: &ConvexPolygon) -> Vec<GraspDiameter> {
+    let n = polygon.len();
+    let mut grasps = Vec::new();
+    for edge in 0..n {
+        let start = polygon.vertex(edge);
+        let along = polygon.vertex(edge + 1) - start;
+        let length = along.norm();
+        let axis = Vector2::new(-along.y, along.x) / length;
+        let (mut vertex, mut diameter) = (0, f64::NEG_INFINITY);
+        for k in 0..n {
+            let h = (polygon.vertex(k) - start).dot(&axis);
+            if h > diameter {
+                (vertex, diameter) = (k, h);
+            }
+        }
+        let tangent = along / length;
+        let tolerance = 1e-9 * length.max(diameter);
+        let lands_on_edge = polygon.vertices().iter().any(|v| {
+            let s = (v - start).dot(&tangent);
+            (v - start).dot(&axis) >= diameter - tolerance
+                && s >= -tolerance
+                && s <= length + tolerance
+        });
+        if lands_on_edge {
+            grasps.push(GraspDiameter {
+                diameter,
+                axis,
+                edge,
+                vertex,
+            });
+        }
+    }
+    grasps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,6 +180,29 @@ mod tests {
         let [foot, apex] = g.contacts(&t);
         assert!(t.contains_point(&foot, 1e-12));
         assert!((apex - t.vertex(g.vertex)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn edge_grasps_include_the_narrowest() {
+        let rectangle = ConvexPolygon::new(vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.04, 0.0),
+            Point2::new(0.04, 0.02),
+            Point2::new(0.0, 0.02),
+        ])
+        .unwrap();
+        let all = edge_grasps(&rectangle);
+        assert_eq!(all.len(), 4);
+        let narrowest = all.iter().map(|g| g.diameter).fold(f64::INFINITY, f64::min);
+        assert!((narrowest - min_grasp_diameter(&rectangle).diameter).abs() < 1e-15);
+        // An obtuse triangle: the apex's perpendicular misses both short sides.
+        let obtuse = ConvexPolygon::new(vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.046, 0.0),
+            Point2::new(0.012, 0.008),
+        ])
+        .unwrap();
+        assert_eq!(edge_grasps(&obtuse).len(), 1);
     }
 
     #[test]

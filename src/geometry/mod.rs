@@ -7,15 +7,19 @@
 //! - [`min_grasp_diameter`]: the narrowest stable two-jaw grasp, `d* = min_θ w(θ)`, by rotating calipers
 //!   (the stable-contact argument is in that module's docs).
 //! - [`separating_line`]: whether two point sets are split by a line (object centroids of two clusters).
-//! - [`distance`], [`penetration_depth`], [`overlap`]: polygon–polygon queries through parry2d-f64, the
-//!   only place in the crate that uses parry.
+//! - [`distance`], [`overlap`]: polygon distances through parry2d-f64 (`queries.rs`, the only place in
+//!   the crate that uses parry).
+//! - [`penetration_depth`], [`cast_distance`], [`contact_patch`]: exact separating-axis queries for
+//!   pushing and squeezing (`sat.rs`).
 
 mod grasp_diameter;
 mod polygon;
 mod queries;
+mod sat;
 mod separation;
 
-pub use grasp_diameter::{GraspDiameter, min_grasp_diameter};
+pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use polygon::{ConvexPolygon, PolygonError, cross};
-pub use queries::{distance, overlap, penetration_depth, point_distance};
+pub use queries::{distance, overlap, point_distance};
+pub use sat::{ContactPatch, cast_distance, contact_patch, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};

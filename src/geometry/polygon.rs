@@ -157,6 +157,26 @@ impl ConvexPolygon {
         Ok(Self { vertices })
     }
 
+    /// A rectangle centred on `center` with half-extents `half_along` along the unit vector `axis` and
+    /// `half_across` across it (both positive and finite; a jaw plate, a finger, a swept band).
+    pub fn rectangle(
+        center: &Point2<f64>,
+        axis: &Vector2<f64>,
+        half_along: f64,
+        half_across: f64,
+    ) -> ConvexPolygon {
+        let along = axis * half_along;
+        let across = Vector2::new(-axis.y, axis.x) * half_across;
+        ConvexPolygon {
+            vertices: vec![
+                center - along - across,
+                center + along - across,
+                center + along + across,
+                center - along + across,
+            ],
+        }
+    }
+
     /// The vertices, counter-clockwise.
     pub fn vertices(&self) -> &[Point2<f64>] {
         &self.vertices

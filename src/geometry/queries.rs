@@ -1,8 +1,9 @@
-//! Polygon–polygon distance and overlap, computed by parry2d-f64 (GJK/EPA on convex shapes).
+//! Polygon–polygon and point–polygon distance by parry2d-f64 (GJK), and the overlap test.
 //!
 //! This file is the only one in pushmog that talks to parry; it converts at its boundary between the
 //! project's nalgebra types and parry's glam types. All polygons passed in are in one common frame
-//! (usually the world frame), so parry sees them at the identity pose.
+//! (usually the world frame), so parry sees them at the identity pose. Penetration, sliding and contact
+//! patches are exact separating-axis computations in `sat.rs` (see there why not parry's EPA).
 
 use nalgebra::Point2;
 use parry2d_f64::math::{Pose, Vector};
@@ -10,6 +11,7 @@ use parry2d_f64::query;
 use parry2d_f64::shape::ConvexPolygon as ParryPolygon;
 
 use super::polygon::ConvexPolygon;
+use super::sat::penetration_depth;
 
 fn to_parry(polygon: &ConvexPolygon) -> ParryPolygon {
     let points: Vec<Vector> = polygon
@@ -31,22 +33,6 @@ pub fn distance(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
         // Convex polygon pairs are always supported by parry's default dispatcher; fall back to
         // the vertex bound if that ever changes.
         .unwrap_or_else(|_| vertex_distance(first, second))
-}
-
-/// How deep the two polygons interpenetrate in metres (the shortest translation that separates them);
-/// `0` when they are apart or only touch.
-pub fn penetration_depth(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
-    let identity = Pose::IDENTITY;
-    match query::contact(
-        &identity,
-        &to_parry(first),
-        &identity,
-        &to_parry(second),
-        0.0,
-    ) {
-        Ok(Some(contact)) => (-contact.dist).max(0.0),
-        _ => 0.0,
-    }
 }
 
 /// Whether the polygons overlap by more than `tolerance` metres of penetration.
@@ -95,9 +81,7 @@ mod tests {
         let a = square(0.0, 0.0, 1.0);
         assert!((distance(&a, &square(3.0, 0.0, 1.0)) - 2.0).abs() < 1e-9);
         assert!(!overlap(&a, &square(1.0, 0.0, 1.0), 1e-9));
-        let deep = square(0.75, 0.0, 1.0);
-        assert!((penetration_depth(&a, &deep) - 0.25).abs() < 1e-9);
-        assert!(overlap(&a, &deep, 1e-9));
+        assert!(overlap(&a, &square(0.75, 0.0, 1.0), 1e-9));
         assert!((point_distance(&a, &Point2::new(2.0, 0.5)) - 1.0).abs() < 1e-9);
         assert_eq!(point_distance(&a, &Point2::new(0.5, 0.5)), 0.0);
     }

@@ -3,12 +3,15 @@
 //! A [`Figure`] draws in layers on a [`Canvas`] that works in table coordinates (metres, y up):
 //! the workspace, the objects (colour per object, ungraspable ones outlined in red and dashed), layers
 //! added by other modules, then ids, a scale bar and a legend. [`scene_svg`] is the whole drawing of a
-//! bare scene.
+//! bare scene; [`plan_svg`] draws a plan: clusters numbered in execution order, push arrows with their
+//! targets, and jaw plates.
 
 mod figure;
+mod plan;
 mod svg;
 
 pub use figure::{Figure, OBJECT_FILL, OBJECT_STROKE, RenderOptions, UNGRASPABLE_STROKE};
+pub use plan::{plan_svg, trip_colour};
 pub use svg::{Canvas, Style};
 
 use crate::scene::Scene;

@@ -158,6 +158,20 @@ impl Scene {
         self.objects.iter().position(|o| o.id == id)
     }
 
+    /// Positions in [`Scene::objects`] of these ids, in the same order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`](crate::Error::InvalidField) naming an id that is not in the scene.
+    pub fn indices_of(&self, ids: &[ObjectId]) -> Result<Vec<usize>> {
+        ids.iter()
+            .map(|&id| {
+                self.index_of(id).ok_or_else(|| {
+                    crate::Error::field("objects", "id", format!("object {id} is not in the scene"))
+                })
+            })
+            .collect()
+    }
+
     /// Outline of object `index` in the table frame.
     pub fn world_polygon(&self, index: usize) -> &ConvexPolygon {
         &self.world[index]

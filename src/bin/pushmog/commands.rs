@@ -4,13 +4,16 @@ use std::io::Read as _;
 use std::path::Path;
 
 use pushmog::error::{Error, Result};
+use pushmog::exec::{Executor, Ideal};
 use pushmog::json::{self, to_json};
-use pushmog::render::{RenderOptions, scene_svg};
+use pushmog::plan::{Plan, RunStatus, verify as verify_plan};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::render::{RenderOptions, plan_svg, scene_svg};
 use pushmog::scene::{
     GeneratorSettings, ObjectSet, Scene, Workspace, builtin_object_set, generate_scene,
 };
 
-use super::{GenerateArgs, RenderArgs, SchemaFormat};
+use super::{GenerateArgs, PlanArgs, RenderArgs, RunArgs, SchemaFormat};
 
 /// Reads a file, or standard input for `-`.
 fn read_input(path: &Path) -> Result<(String, String)> {
@@ -116,6 +119,108 @@ fn check_report(scene: &Scene, name: &str) -> String {
     out
 }
 
+fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
+    let kind: PolicyKind = name.parse()?;
+    let settings = match settings {
+        Some(path) => {
+            let (text, source) = read_input(path)?;
+            json::from_json::<PolicySettings>(&text, &source)?
+        }
+        None => PolicySettings::default(),
+    };
+    Policy::new(kind, settings)
+}
+
+fn executor(name: &str, policy: &Policy) -> Result<Box<dyn Executor>> {
+    match name {
+        "ideal" => Ok(Box::new(Ideal::new(policy.settings().multi.model.clone()))),
+        other => Err(Error::field(
+            "run",
+            "--executor",
+            format!("unknown executor `{other}`; available: ideal"),
+        )),
+    }
+}
+
+pub fn plan(args: &PlanArgs) -> Result<()> {
+    let scene = read_scene(&args.scene)?;
+    let policy = policy(&args.policy, args.settings.as_deref())?;
+    let mut executor = executor("ideal", &policy)?;
+    let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
+    write_output(args.output.as_deref(), &to_json(&plan))?;
+    eprint!("{}", summary(&plan, scene.len()));
+    Ok(())
+}
+
+pub fn run(args: &RunArgs) -> Result<()> {
+    let scene = read_scene(&args.scene)?;
+    let policy = policy(&args.policy, args.settings.as_deref())?;
+    let mut executor = executor(&args.executor, &policy)?;
+    let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
+    if let Some(path) = &args.plan {
+        json::write_text(path, &to_json(&plan))?;
+    }
+    print!("{}", summary(&plan, scene.len()));
+    Ok(())
+}
+
+/// The figures of a run, one per line.
+fn summary(plan: &Plan, objects: usize) -> String {
+    let mut out = format!(
+        "policy {} (executor {}, seed {})\n",
+        plan.policy, plan.executor, plan.seed
+    );
+    out.push_str(&format!(
+        "objects           {} on the table, {} carried\n",
+        objects,
+        plan.objects_carried()
+    ));
+    out.push_str(&format!("trips             {}\n", plan.trips.len()));
+    out.push_str(&format!(
+        "objects per trip  {:.3}\n",
+        plan.objects_per_trip()
+    ));
+    out.push_str(&format!(
+        "pushes            {} ({:.3} m in total)\n",
+        plan.push_count(),
+        plan.push_distance()
+    ));
+    let skipped: usize = plan.trips.iter().map(|t| t.skipped_pushes.len()).sum();
+    out.push_str(&format!("pushes skipped    {skipped}\n"));
+    out.push_str(&format!("failed grasps     {}\n", plan.failed_grasps()));
+    out.push_str(&format!(
+        "failed attempts   {}\n",
+        plan.failed_attempts.len()
+    ));
+    match &plan.status {
+        RunStatus::Cleared => out.push_str("status            cleared\n"),
+        RunStatus::Stopped { remaining, reason } => out.push_str(&format!(
+            "status            stopped with {} objects left: {reason}\n",
+            remaining.len()
+        )),
+    }
+    out
+}
+
+pub fn verify(path: &Path) -> Result<()> {
+    let (text, name) = read_input(path)?;
+    let plan: Plan = json::from_json(&text, &name)?;
+    let violations = verify_plan(&plan);
+    if violations.is_empty() {
+        println!("{name}: {} trips verified, no violations", plan.trips.len());
+        Ok(())
+    } else {
+        for v in &violations {
+            eprintln!("{v}");
+        }
+        Err(Error::field(
+            name,
+            "trips",
+            format!("{} violations", violations.len()),
+        ))
+    }
+}
+
 pub fn render(args: &RenderArgs) -> Result<()> {
     if !(args.scale.is_finite() && args.scale > 0.0) {
         return Err(Error::field(
@@ -127,21 +232,36 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             ),
         ));
     }
-    let scene = read_scene(&args.scene)?;
     let options = RenderOptions {
         pixels_per_metre: args.scale,
         show_ids: !args.no_ids,
         show_grasp_diameters: args.grasp_diameters,
         ..RenderOptions::default()
     };
-    let title = format!("{} ({} objects)", args.scene.display(), scene.len());
-    write_output(args.output.as_deref(), &scene_svg(&scene, &options, &title))
+    let (text, name) = read_input(&args.scene)?;
+    // A plan has trips; anything else is read as a scene.
+    let is_plan = serde_json::from_str::<serde_json::Value>(&text)
+        .map(|v| v.get("trips").is_some())
+        .unwrap_or(false);
+    let svg = if is_plan {
+        let plan: Plan = json::from_json(&text, &name)?;
+        let title = format!("{name}: policy {}, {} trips", plan.policy, plan.trips.len());
+        plan_svg(&plan, &options, &title)?
+    } else {
+        let scene = json::scene_from_json(&text, &name)?;
+        let title = format!("{name} ({} objects)", scene.len());
+        scene_svg(&scene, &options, &title)
+    };
+    write_output(args.output.as_deref(), &svg)
 }
 
 pub fn schema(format: SchemaFormat) -> Result<()> {
     let schema = match format {
         SchemaFormat::Scene => json::scene_schema(),
         SchemaFormat::ObjectSet => json::object_set_schema(),
+        SchemaFormat::Policy => {
+            serde_json::to_value(schemars::schema_for!(PolicySettings)).unwrap_or_default()
+        }
     };
     print!("{}", to_json(&schema));
     Ok(())
@@ -173,10 +293,47 @@ pub fn demo(out: &Path, seed: u64) -> Result<()> {
         "{}",
         check_report(&scene, &scene_path.display().to_string())
     );
+    println!("\nclearing it with each policy (ideal executor, seed {seed}):\n");
+    println!("| policy | trips | objects per trip | pushes | push distance (m) | verified |");
+    println!("|---|---:|---:|---:|---:|---|");
+    let mut written = Vec::new();
+    for kind in PolicyKind::ALL {
+        let policy = Policy::new(kind, PolicySettings::default())?;
+        let plan = policy.run(&scene, &mut Ideal::default(), seed)?;
+        let violations = verify_plan(&plan).len();
+        println!(
+            "| {kind} | {} | {:.3} | {} | {:.3} | {} |",
+            plan.trips.len(),
+            plan.objects_per_trip(),
+            plan.push_count(),
+            plan.push_distance(),
+            if violations == 0 {
+                "yes".to_string()
+            } else {
+                format!("NO ({violations} violations)")
+            }
+        );
+        if kind == PolicyKind::PushMog {
+            let plan_path = out.join("plan.json");
+            let plan_svg_path = out.join("plan.svg");
+            json::write_text(&plan_path, &to_json(&plan))?;
+            let title = format!("push-mog plan, seed {seed}");
+            json::write_text(
+                &plan_svg_path,
+                &plan_svg(&plan, &RenderOptions::default(), &title)?,
+            )?;
+            written.extend([plan_path, plan_svg_path]);
+        }
+    }
     println!(
-        "\nwrote {} and {} (open the SVG in a browser)",
+        "\nwrote {}, {} and {} (open the SVGs in a browser)",
         scene_path.display(),
-        svg_path.display()
+        svg_path.display(),
+        written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     Ok(())
 }

@@ -23,7 +23,16 @@ enum Command {
     /// Generate and check scenes.
     #[command(subcommand)]
     Scene(SceneCommand),
-    /// Draw a scene as SVG.
+    /// Plan how to clear a scene (closed loop with the ideal executor) and write the plan as JSON.
+    Plan(PlanArgs),
+    /// Clear a scene with a policy and print trips, objects per trip and failures.
+    Run(RunArgs),
+    /// Check a plan file with the independent verifier.
+    Verify {
+        /// Plan file written by `pushmog plan`.
+        plan: PathBuf,
+    },
+    /// Draw a scene, or a plan (clusters numbered in execution order, push arrows, jaw outlines), as SVG.
     Render(RenderArgs),
     /// Print the JSON Schema of a file format.
     Schema {
@@ -88,8 +97,47 @@ struct GenerateArgs {
 }
 
 #[derive(Args, Debug)]
-struct RenderArgs {
+struct PlanArgs {
     /// Scene file (`-` for standard input).
+    scene: PathBuf,
+    /// Policy: sog, mog or push-mog.
+    #[arg(long, default_value = "push-mog")]
+    policy: String,
+    /// Seed of the policy's random choices.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Policy settings as JSON (fields not given keep their defaults; `pushmog schema policy`).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Output file (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    /// Scene file (`-` for standard input).
+    scene: PathBuf,
+    /// Policy: sog, mog or push-mog.
+    #[arg(long, default_value = "push-mog")]
+    policy: String,
+    /// Executor: ideal (plans applied exactly).
+    #[arg(long, default_value = "ideal")]
+    executor: String,
+    /// Seed of the policy's random choices.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Policy settings as JSON (fields not given keep their defaults).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Also write the run's plan as JSON here.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct RenderArgs {
+    /// Scene or plan file (`-` for standard input).
     scene: PathBuf,
     /// Output SVG file (default: standard output).
     #[arg(short, long)]
@@ -111,6 +159,8 @@ enum SchemaFormat {
     Scene,
     /// An object-set file.
     ObjectSet,
+    /// Policy settings (`--settings` of `plan` and `run`).
+    Policy,
 }
 
 fn main() -> ExitCode {
@@ -118,6 +168,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Scene(SceneCommand::Generate(args)) => commands::generate(&args),
         Command::Scene(SceneCommand::Check { scene }) => commands::check(&scene),
+        Command::Plan(args) => commands::plan(&args),
+        Command::Run(args) => commands::run(&args),
+        Command::Verify { plan } => commands::verify(&plan),
         Command::Render(args) => commands::render(&args),
         Command::Schema { format } => commands::schema(format),
         Command::Library { json, output } => commands::library(json, output.as_deref()),

@@ -1,0 +1,55 @@
+//! Benchmarks of the baselines on 34-object scenes: clustering, push planning for one cluster, grasp
+//! planning for one cluster, and a whole push-mog run with the ideal executor.
+#![allow(missing_docs, clippy::unwrap_used)]
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use pushmog::cluster::{Clusterer, Hierarchical};
+use pushmog::exec::Ideal;
+use pushmog::grasp::{GraspPlanner, MultiObject, SingleObject};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::push::{PushPlanner, TowardCentral, predict};
+use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
+
+fn scene() -> Scene {
+    generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 1).unwrap()
+}
+
+/// The largest cluster of the scene's hierarchical clustering.
+fn largest_cluster(scene: &Scene) -> Vec<ObjectId> {
+    let clustering = Hierarchical::default().cluster(scene).unwrap().value;
+    clustering
+        .clusters
+        .into_iter()
+        .max_by_key(|c| c.len())
+        .unwrap()
+}
+
+fn baselines(c: &mut Criterion) {
+    let scene = scene();
+    let cluster = largest_cluster(&scene);
+    let pushes = TowardCentral::default()
+        .plan(&scene, &cluster)
+        .unwrap()
+        .value;
+    let predicted = predict(&scene, &pushes.pushes).unwrap();
+
+    c.bench_function("cluster/hierarchical/34", |b| {
+        b.iter(|| Hierarchical::default().cluster(&scene).unwrap())
+    });
+    c.bench_function("push/toward-central/largest-cluster", |b| {
+        b.iter(|| TowardCentral::default().plan(&scene, &cluster).unwrap())
+    });
+    c.bench_function("grasp/multi-object/largest-cluster", |b| {
+        b.iter(|| MultiObject::default().plan(&predicted, &cluster).unwrap())
+    });
+    c.bench_function("grasp/single-object/one", |b| {
+        b.iter(|| SingleObject::default().plan(&scene, &cluster[..1]).unwrap())
+    });
+    let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
+    c.bench_function("run/push-mog/34", |b| {
+        b.iter(|| policy.run(&scene, &mut Ideal::default(), 1).unwrap())
+    });
+}
+
+criterion_group!(benches, baselines);
+criterion_main!(benches);

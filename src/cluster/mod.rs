@@ -1,0 +1,78 @@
+//! Clustering: partition the objects into groups to be pushed together and lifted in one grasp.
+//!
+//! A clustering `C` of the objects `O` is valid when
+//! 1. **capacity**: every cluster of two or more objects fits the jaws,
+//!    `Σ_{o∈c} d*_o ≤ g` with `d*_o` the minimum grasp diameter and `g` the usable gap;
+//! 2. **separability**: for any two clusters a line separates their object centroids, so each cluster
+//!    can be pushed together without reaching into another.
+//!
+//! A single object is a valid cluster even when it is wider than the gap (it is then ungraspable,
+//! which the grasp planner reports). Implementations: [`Hierarchical`] (the Push-MOG paper's
+//! Algorithm 2, with pushmog's separability repair). The optimal clustering is
+//! `formulations/clustering.md` (a later issue).
+
+mod hierarchical;
+mod separability;
+mod split;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::plan::Outcome;
+use crate::scene::{ObjectId, Scene};
+
+pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
+pub use separability::{repair_separability, separability_conflicts};
+pub use split::{SplitSettings, split_until_valid};
+
+/// A partition of a scene's objects into clusters, each a list of object ids.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Clustering {
+    /// The clusters; every object of the scene is in exactly one.
+    pub clusters: Vec<Vec<ObjectId>>,
+}
+
+impl Clustering {
+    /// The number of clusters.
+    pub fn len(&self) -> usize {
+        self.clusters.len()
+    }
+
+    /// Whether there are no clusters (an empty table).
+    pub fn is_empty(&self) -> bool {
+        self.clusters.is_empty()
+    }
+
+    /// Sorts ids inside each cluster and clusters by their first id, so equal partitions compare equal.
+    pub fn normalised(mut self) -> Self {
+        for cluster in &mut self.clusters {
+            cluster.sort_unstable();
+        }
+        self.clusters.sort();
+        self
+    }
+}
+
+/// Summed minimum grasp diameter of a group of objects given by scene index, metres.
+pub fn summed_diameter(scene: &Scene, members: &[usize]) -> f64 {
+    members.iter().map(|&i| scene.min_grasp_diameter(i)).sum()
+}
+
+/// Whether a group of objects (scene indices) fits the jaws: one object always does (it may be
+/// ungraspable, which is the grasp planner's business), more must have `Σ d* ≤ usable gap`.
+pub fn fits_jaws(scene: &Scene, members: &[usize]) -> bool {
+    members.len() <= 1 || summed_diameter(scene, members) <= scene.gripper().usable_gap()
+}
+
+/// A way to cluster a scene.
+pub trait Clusterer {
+    /// A short name for logs and tables (`hierarchical`, `milp`).
+    fn name(&self) -> &'static str;
+
+    /// Partitions the scene's objects into valid clusters.
+    ///
+    /// # Errors
+    /// Only for misuse (invalid settings); a clustering problem with no good answer is reported in
+    /// the outcome's status.
+    fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>>;
+}

@@ -1,0 +1,46 @@
+//! Executors: what carries out pushes and grasps and reports the table afterwards.
+//!
+//! The closed loop talks to an [`Executor`] only: it resets it to a scene, asks for pushes and grasps,
+//! and observes the table after each trip. [`Ideal`] applies plans exactly (a planner's own
+//! prediction); a physics simulator and a UR5 executor arrive in their own issues.
+
+mod ideal;
+
+use crate::error::Result;
+use crate::grasp::Grasp;
+use crate::push::Push;
+use crate::scene::{ObjectId, Scene};
+
+pub use ideal::Ideal;
+
+/// Something that carries out pushes and grasps.
+pub trait Executor {
+    /// A short name for logs and tables (`ideal`, `sim`, `ur5`).
+    fn name(&self) -> &'static str;
+
+    /// Sets the table to `scene`.
+    ///
+    /// # Errors
+    /// When the executor cannot represent the scene.
+    fn reset(&mut self, scene: &Scene) -> Result<()>;
+
+    /// Carries out one fork push.
+    ///
+    /// # Errors
+    /// Environment faults only (a lost robot link); a push that goes badly shows in the next
+    /// observation.
+    fn push(&mut self, push: &Push) -> Result<()>;
+
+    /// Closes the jaws as planned, lifts and carries what it holds to the bin; returns the ids carried
+    /// (empty for a failed grasp).
+    ///
+    /// # Errors
+    /// Environment faults only.
+    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>>;
+
+    /// The table as the executor sees it now.
+    ///
+    /// # Errors
+    /// Environment faults only.
+    fn observe(&mut self) -> Result<Scene>;
+}

@@ -1,0 +1,356 @@
+//! pushmog's analytic model of closing parallel jaws on objects lying on a table.
+//!
+//! Given a [`JawPose`]:
+//! 1. **Placement.** If either open plate overlaps an object, the jaws cannot be lowered
+//!    ([`Squeeze::PlateHits`]). Objects overlapping the region between the plates are *caught*; a
+//!    caught object must lie between the planes of the two plate faces, or a plate would close past
+//!    part of it ([`Squeeze::Straddles`]).
+//! 2. **Closing.** Caught objects slide along the closing axis `a` without turning until they touch:
+//!    sorted by their lowest point along `a`, each is moved along `−a` until it meets an object already
+//!    placed (a shape cast). The result must be a single row: each object meets exactly one
+//!    predecessor and is met by at most one successor, and only the first and last touch the plates.
+//!    Anything else (an object that meets nothing, two objects side by side) is
+//!    [`Squeeze::NotARow`].
+//! 3. **Friction in the plane.** Each object in the row is held between two contacts, a plate or a
+//!    neighbour. By Nguyen's two-contact condition the object is held when some pair of points, one on
+//!    each contact patch, is joined by a segment within the friction cone (half-angle `atan μ`) of both
+//!    inward contact normals. A plate's normal is `±a`; between objects the normal is that of the edge in
+//!    contact. `μ` is `friction_jaw` at a plate and `friction_object` between objects. Patches are
+//!    sampled at 5 points. An object that fails slips out of the row ([`Squeeze::Slips`]): three
+//!    equal equilateral triangles are refused here for all plausible `μ`.
+//! 4. **Lifting.** With grip force `N`, each plate carries half the row's weight `W`, which needs
+//!    `μ_jaw N ≥ W/2`; the interface after the first `k` objects carries `|W/2 − W_k|` and needs at most
+//!    `μ_obj N |n·a|`. Masses come from the objects, or from `density × area × height`.
+//!
+//! The row's predicted width is its extent along `a` after closing. `shared/reference/FACTS.md` lists
+//! the sources of these conditions (Nguyen 1988; the necessary conditions of the public MOG code).
+
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::jaws::JawPose;
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, cast_distance, contact_patch, distance, overlap};
+use crate::scene::Scene;
+
+/// Slides equal to within this (metres) are a tie, won by the object placed last.
+const SLIDE_TIE: f64 = 1e-9;
+
+/// Standard gravity, m/s².
+const GRAVITY: f64 = 9.81;
+
+/// Settings of the analytic grasp model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct GraspModel {
+    /// Coulomb friction between a plate and an object. Default 0.4 (the plates' value in the public
+    /// multi-object grasping simulation, `FACTS.md`).
+    pub friction_jaw: f64,
+    /// Coulomb friction between two objects. Default 0.4: the paper wraps the objects' faces in
+    /// frictional tape, so object–object contacts are taken as grippy as plate contacts.
+    pub friction_object: f64,
+    /// Grip force of the closed jaws, newtons. Default 20 (the Robotiq 2F-85's lowest setting).
+    pub grip_force: f64,
+    /// Density used when an object has no mass, kg/m³. Default 1000 (solid plastic or dense wood).
+    pub density: f64,
+    /// Objects closer than this count as touching, metres. Default 1e-6.
+    pub contact_tolerance: f64,
+}
+
+impl Default for GraspModel {
+    fn default() -> Self {
+        Self {
+            friction_jaw: 0.4,
+            friction_object: 0.4,
+            grip_force: 20.0,
+            density: 1000.0,
+            contact_tolerance: 1e-6,
+        }
+    }
+}
+
+impl GraspModel {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        for (field, value) in [
+            ("friction_jaw", self.friction_jaw),
+            ("friction_object", self.friction_object),
+            ("grip_force", self.grip_force),
+            ("density", self.density),
+            ("contact_tolerance", self.contact_tolerance),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::field(
+                    "grasp_model",
+                    field,
+                    format!("must be a non-negative finite number, got {value}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What closing the jaws does, by the model.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Squeeze {
+    /// The row is held: scene indices from one plate to the other, and the closed gap in metres.
+    Held {
+        /// Scene indices of the objects carried, in row order.
+        objects: Vec<usize>,
+        /// Distance between the plate faces when closed, metres.
+        width: f64,
+    },
+    /// Nothing lies between the plates.
+    Empty,
+    /// An open plate lands on this object (scene index).
+    PlateHits {
+        /// Scene index.
+        object: usize,
+    },
+    /// This object (scene index) reaches past a plate face beside the plate.
+    Straddles {
+        /// Scene index.
+        object: usize,
+    },
+    /// The caught objects do not form one row; this one is out of line (scene index).
+    NotARow {
+        /// Scene index.
+        object: usize,
+    },
+    /// Friction cannot keep this object (scene index) in the row.
+    Slips {
+        /// Scene index.
+        object: usize,
+    },
+    /// The grip force cannot carry the row's weight.
+    TooHeavy,
+}
+
+/// One contact of a row object: a patch (segment ends) and the inward normal.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    ends: [Point2<f64>; 2],
+    inward: Vector2<f64>,
+    friction: f64,
+}
+
+/// Predicts what closing `jaws` does in `scene`.
+pub fn squeeze(scene: &Scene, jaws: &JawPose, model: &GraspModel) -> Squeeze {
+    let gripper = scene.gripper();
+    let axis = jaws.axis();
+    let plates = jaws.plates(gripper);
+    let between = jaws.between(gripper);
+    let reach = jaws.opening / 2.0 + gripper.plate_length;
+    let mut caught: Vec<usize> = Vec::new();
+    for index in 0..scene.len() {
+        let outline = scene.world_polygon(index);
+        let centroid = scene.centroid(index);
+        if nalgebra::distance(&centroid, &jaws.center) > reach + outline.radius_about(&centroid) {
+            continue;
+        }
+        if plates.iter().any(|p| overlap(p, outline, 0.0)) {
+            return Squeeze::PlateHits { object: index };
+        }
+        if overlap(&between, outline, 0.0) {
+            let (low, high) = outline.projection(&axis);
+            let middle = jaws.center.coords.dot(&axis);
+            let half_gap = jaws.gap(gripper) / 2.0;
+            if low < middle - half_gap || high > middle + half_gap {
+                return Squeeze::Straddles { object: index };
+            }
+            caught.push(index);
+        }
+    }
+    if caught.is_empty() {
+        return Squeeze::Empty;
+    }
+    let low = |p: &ConvexPolygon| p.projection(&axis).0;
+    caught.sort_by(|&a, &b| low(scene.world_polygon(a)).total_cmp(&low(scene.world_polygon(b))));
+
+    // Close: slide each object along −a onto the row.
+    let mut row: Vec<ConvexPolygon> = vec![scene.world_polygon(caught[0]).clone()];
+    for (k, &index) in caught.iter().enumerate().skip(1) {
+        let moving = scene.world_polygon(index);
+        let mut first: Option<(f64, usize)> = None;
+        // Latest placed first, so a tie (touching two at once) goes to the row's current end.
+        for (j, placed) in row.iter().enumerate().rev() {
+            if let Some(d) = cast_distance(moving, &-axis, jaws.opening, placed)
+                && first.is_none_or(|(best, _)| d < best - SLIDE_TIE)
+            {
+                first = Some((d, j));
+            }
+        }
+        // A row: each object lands on the one placed just before it (so none is met twice).
+        match first {
+            Some((slide, predecessor)) if predecessor == k - 1 => {
+                row.push(moving.translated(&(-axis * slide)));
+            }
+            _ => return Squeeze::NotARow { object: index },
+        }
+    }
+    // Only the ends may touch the plates.
+    let tolerance = model.contact_tolerance;
+    let (row_low, row_high) = row
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            let (a, b) = p.projection(&axis);
+            (l.min(a), h.max(b))
+        });
+    let last = row.len() - 1;
+    for (k, outline) in row.iter().enumerate() {
+        let (a, b) = outline.projection(&axis);
+        if (k != 0 && a <= row_low + tolerance) || (k != last && b >= row_high - tolerance) {
+            return Squeeze::NotARow { object: caught[k] };
+        }
+    }
+
+    // Friction in the plane, object by object.
+    let jaw_side = |outline: &ConvexPolygon, inward: Vector2<f64>| {
+        let extreme = if inward.dot(&axis) > 0.0 {
+            row_low
+        } else {
+            row_high
+        };
+        let touching: Vec<Point2<f64>> = outline
+            .vertices()
+            .iter()
+            .copied()
+            .filter(|v| (v.coords.dot(&axis) - extreme).abs() <= tolerance.max(1e-9))
+            .collect();
+        Side {
+            ends: extreme_points(&touching, &Vector2::new(-axis.y, axis.x)),
+            inward,
+            friction: model.friction_jaw,
+        }
+    };
+    let mut sides: Vec<[Side; 2]> = Vec::with_capacity(row.len());
+    let mut interface_normals: Vec<Vector2<f64>> = Vec::new();
+    for k in 0..row.len() {
+        let left = if k == 0 {
+            jaw_side(&row[k], axis)
+        } else {
+            let Some(patch) = contact_patch(&row[k - 1], &row[k], tolerance.max(1e-9)) else {
+                return Squeeze::NotARow { object: caught[k] };
+            };
+            Side {
+                ends: patch.ends,
+                inward: patch.normal,
+                friction: model.friction_object,
+            }
+        };
+        let right = if k == last {
+            jaw_side(&row[k], -axis)
+        } else {
+            let Some(patch) = contact_patch(&row[k], &row[k + 1], tolerance.max(1e-9)) else {
+                return Squeeze::NotARow {
+                    object: caught[k + 1],
+                };
+            };
+            interface_normals.push(patch.normal);
+            Side {
+                ends: patch.ends,
+                inward: -patch.normal,
+                friction: model.friction_object,
+            }
+        };
+        sides.push([left, right]);
+    }
+    for (k, [left, right]) in sides.iter().enumerate() {
+        if !two_contacts_hold(left, right) {
+            return Squeeze::Slips { object: caught[k] };
+        }
+    }
+
+    // Lifting against gravity.
+    let masses: Vec<f64> = caught
+        .iter()
+        .map(|&i| {
+            let object = &scene.objects()[i];
+            object
+                .mass
+                .unwrap_or(model.density * object.polygon.area() * object.height)
+        })
+        .collect();
+    let weight: f64 = masses.iter().sum::<f64>() * GRAVITY;
+    let force = model.grip_force;
+    if model.friction_jaw * force < weight / 2.0 {
+        return Squeeze::TooHeavy;
+    }
+    let mut carried_left = 0.0;
+    for (k, normal) in interface_normals.iter().enumerate() {
+        carried_left += masses[k] * GRAVITY;
+        let shear = (weight / 2.0 - carried_left).abs();
+        if shear > model.friction_object * force * normal.dot(&axis).abs() {
+            return Squeeze::TooHeavy;
+        }
+    }
+    Squeeze::Held {
+        objects: caught,
+        width: row_high - row_low,
+    }
+}
+
+/// Clearance between the open plates and the nearest object not in `held`, capped at `cap` metres.
+pub(super) fn plate_clearance(scene: &Scene, jaws: &JawPose, held: &[usize], cap: f64) -> f64 {
+    let plates = jaws.plates(scene.gripper());
+    let mut clearance = cap;
+    for index in 0..scene.len() {
+        if held.contains(&index) {
+            continue;
+        }
+        let outline = scene.world_polygon(index);
+        let centroid = scene.centroid(index);
+        if nalgebra::distance(&centroid, &jaws.center)
+            > jaws.opening / 2.0 + cap + 0.05 + outline.radius_about(&centroid)
+        {
+            continue;
+        }
+        for plate in &plates {
+            clearance = clearance.min(distance(plate, outline));
+        }
+    }
+    clearance
+}
+
+/// The two extreme points of a point set along `direction` (equal for one point).
+fn extreme_points(points: &[Point2<f64>], direction: &Vector2<f64>) -> [Point2<f64>; 2] {
+    let key = |p: &Point2<f64>| p.coords.dot(direction);
+    let mut low = points[0];
+    let mut high = points[0];
+    for p in points {
+        if key(p) < key(&low) {
+            low = *p;
+        }
+        if key(p) > key(&high) {
+            high = *p;
+        }
+    }
+    [low, high]
+}
+
+/// Nguyen's condition over sampled points of two contact patches.
+fn two_contacts_hold(first: &Side, second: &Side) -> bool {
+    let samples = |side: &Side| -> Vec<Point2<f64>> {
+        let [a, b] = side.ends;
+        (0..5).map(|k| a + (b - a) * (k as f64 / 4.0)).collect()
+    };
+    let within = |v: Vector2<f64>, normal: Vector2<f64>, friction: f64| {
+        let length = v.norm();
+        length > 0.0
+            && v.dot(&normal) >= length * normal.norm() / (1.0 + friction * friction).sqrt()
+    };
+    for p in samples(first) {
+        for q in samples(second) {
+            if within(q - p, first.inward, first.friction)
+                && within(p - q, second.inward, second.friction)
+            {
+                return true;
+            }
+        }
+    }
+    false
+}

@@ -1,0 +1,190 @@
+//! Single-object grasps: one object between the jaws, flush on an edge, jaws clear of neighbours.
+//!
+//! Candidates are the object's stable edge-flush grasps ([`edge_grasps`]): the closing axis is an edge
+//! normal, the jaws centre on the middle of the facing contacts, and the plates open to the object's
+//! width there plus `clearance` on each side (capped at the stroke). A candidate is kept when the grasp
+//! model predicts exactly this object held. Among those, the one with the most clearance to other
+//! objects wins, then the narrowest.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::model::{GraspModel, Squeeze, plate_clearance, squeeze};
+use super::{Grasp, GraspPlanner, JawPose};
+use crate::error::{Error, Result};
+use crate::geometry::edge_grasps;
+use crate::plan::{Outcome, Stats, Status};
+use crate::scene::{ObjectId, Scene};
+
+/// Settings of [`SingleObject`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct SingleObjectSettings {
+    /// Gap between each open plate and the object, metres; half of it is tried too when neighbours
+    /// are close. Default 0.01.
+    pub clearance: f64,
+    /// The grasp model.
+    pub model: GraspModel,
+}
+
+impl Default for SingleObjectSettings {
+    fn default() -> Self {
+        Self {
+            clearance: 0.01,
+            model: GraspModel::default(),
+        }
+    }
+}
+
+impl SingleObjectSettings {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.clearance.is_finite() && self.clearance >= 0.0) {
+            return Err(Error::field(
+                "single_object",
+                "clearance",
+                format!(
+                    "must be a non-negative number of metres, got {}",
+                    self.clearance
+                ),
+            ));
+        }
+        self.model.validate()
+    }
+}
+
+/// Single-object grasps.
+#[derive(Clone, Debug, Default)]
+pub struct SingleObject {
+    settings: SingleObjectSettings,
+}
+
+impl SingleObject {
+    /// A planner with these settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn new(settings: SingleObjectSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self { settings })
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &SingleObjectSettings {
+        &self.settings
+    }
+
+    /// The best single-object grasp of object `index`, or why there is none.
+    pub(super) fn grasp_object(
+        &self,
+        scene: &Scene,
+        index: usize,
+        evaluated: &mut usize,
+    ) -> std::result::Result<Grasp, String> {
+        let gripper = scene.gripper();
+        let object = &scene.objects()[index];
+        let pose = object.pose.isometry();
+        let mut best: Option<Grasp> = None;
+        let mut last_reason = format!("object {} is wider than the jaw gap", object.id);
+        for candidate in edge_grasps(&object.polygon) {
+            if candidate.diameter > gripper.usable_gap() {
+                continue;
+            }
+            let [near, far] = candidate.contacts(&object.polygon);
+            let center = pose * nalgebra::center(&near, &far);
+            let axis = pose * candidate.axis;
+            for clearance in [self.settings.clearance, self.settings.clearance / 2.0] {
+                let opening = (candidate.diameter + 2.0 * clearance + gripper.plate_thickness)
+                    .min(gripper.stroke);
+                let jaws = JawPose {
+                    center,
+                    angle: axis.y.atan2(axis.x),
+                    opening,
+                };
+                *evaluated += 1;
+                match squeeze(scene, &jaws, &self.settings.model) {
+                    Squeeze::Held { objects, width } if objects == [index] => {
+                        let margin = plate_clearance(scene, &jaws, &objects, 0.05);
+                        let better = best.as_ref().is_none_or(|b| {
+                            margin > b.margin + 1e-12
+                                || (margin >= b.margin - 1e-12 && width < b.width)
+                        });
+                        if better {
+                            best = Some(Grasp {
+                                jaws,
+                                objects: vec![object.id],
+                                width,
+                                margin,
+                            });
+                        }
+                        break;
+                    }
+                    Squeeze::Held { objects, .. } => {
+                        last_reason = format!(
+                            "jaws around object {} would also catch object {}",
+                            object.id,
+                            scene.objects()[objects
+                                .iter()
+                                .copied()
+                                .find(|&o| o != index)
+                                .unwrap_or(index)]
+                            .id
+                        );
+                    }
+                    Squeeze::PlateHits { object: hit } => {
+                        last_reason =
+                            format!("a plate would land on object {}", scene.objects()[hit].id);
+                    }
+                    other => last_reason = format!("{other:?}"),
+                }
+            }
+        }
+        best.ok_or(last_reason)
+    }
+}
+
+impl GraspPlanner for SingleObject {
+    fn name(&self) -> &'static str {
+        "single-object"
+    }
+
+    fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
+        let started = Instant::now();
+        let indices = scene.indices_of(targets)?;
+        let mut evaluated = 0;
+        let mut reasons = Vec::new();
+        let mut found = None;
+        for index in indices {
+            match self.grasp_object(scene, index, &mut evaluated) {
+                Ok(grasp) => {
+                    found = Some(grasp);
+                    break;
+                }
+                Err(reason) => reasons.push(reason),
+            }
+        }
+        let status = match &found {
+            Some(_) => Status::Heuristic,
+            None => Status::Failed {
+                reason: if reasons.is_empty() {
+                    "no target objects".to_string()
+                } else {
+                    reasons.join("; ")
+                },
+            },
+        };
+        Ok(Outcome {
+            value: found,
+            status,
+            stats: Stats {
+                seconds: started.elapsed().as_secs_f64(),
+                counters: vec![("candidates".to_string(), evaluated as f64)],
+                ..Stats::default()
+            },
+        })
+    }
+}

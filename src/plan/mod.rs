@@ -1,0 +1,109 @@
+//! What planners return and what a whole run records.
+//!
+//! - [`Outcome`]: a planner's answer with its [`Status`] and [`Stats`]. `Err` is kept for misuse; a
+//!   stage that finds nothing good says so in its status.
+//! - [`Plan`]: the record of a closed-loop run (the paper's Algorithm 1): for every trip, the scene it
+//!   was planned on, the clustering, the chosen cluster, the pushes, the grasp and what was carried.
+//!   [`verify`] checks a plan independently of the planners.
+
+mod outcome;
+mod verify;
+
+pub use outcome::{Outcome, Stats, Status};
+pub use verify::{Violation, verify, verify_trip};
+
+use serde::{Deserialize, Serialize};
+
+use crate::cluster::Clustering;
+use crate::grasp::Grasp;
+use crate::push::{Push, SkippedPush};
+use crate::scene::{ObjectId, SceneSpec};
+
+/// One trip of a run: plan on an observation, push, grasp, carry to the bin.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Trip {
+    /// The observation this trip was planned on.
+    pub scene: SceneSpec,
+    /// The clustering of that observation (empty for policies that do not cluster).
+    pub clustering: Clustering,
+    /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
+    pub cluster: Option<usize>,
+    /// The fork pushes, in execution order.
+    pub pushes: Vec<Push>,
+    /// Pushes that could not be planned, with their reasons.
+    pub skipped_pushes: Vec<SkippedPush>,
+    /// The grasp, planned on the scene predicted after the pushes.
+    pub grasp: Grasp,
+    /// The objects the executor reports carried to the bin (empty for a failed grasp).
+    pub carried: Vec<ObjectId>,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum RunStatus {
+    /// Every object reached the bin.
+    Cleared,
+    /// The run stopped with objects left on the table.
+    Stopped {
+        /// Objects left.
+        remaining: Vec<ObjectId>,
+        /// Why it stopped.
+        reason: String,
+    },
+}
+
+/// The record of a closed-loop run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// The policy's name (`sog`, `mog`, `push-mog`).
+    pub policy: String,
+    /// The executor's name (`ideal`, `sim`).
+    pub executor: String,
+    /// Seed of the run's own choices (which cluster next).
+    pub seed: u64,
+    /// The policy's effective settings.
+    pub settings: serde_json::Value,
+    /// The trips in order.
+    pub trips: Vec<Trip>,
+    /// Planning attempts that produced no grasp, with their reasons.
+    pub failed_attempts: Vec<String>,
+    /// How the run ended.
+    pub status: RunStatus,
+}
+
+impl Plan {
+    /// Objects carried over all trips.
+    pub fn objects_carried(&self) -> usize {
+        self.trips.iter().map(|t| t.carried.len()).sum()
+    }
+
+    /// Objects per trip (OpT): objects carried divided by trips made; 0 for a run with no trips.
+    pub fn objects_per_trip(&self) -> f64 {
+        if self.trips.is_empty() {
+            0.0
+        } else {
+            self.objects_carried() as f64 / self.trips.len() as f64
+        }
+    }
+
+    /// Fork pushes made over all trips.
+    pub fn push_count(&self) -> usize {
+        self.trips.iter().map(|t| t.pushes.len()).sum()
+    }
+
+    /// Total distance objects were pushed, metres.
+    pub fn push_distance(&self) -> f64 {
+        self.trips
+            .iter()
+            .flat_map(|t| &t.pushes)
+            .map(|p| p.distance)
+            .sum::<f64>()
+            + 0.0 // an empty sum is −0.0; print it as 0
+    }
+
+    /// Trips that carried nothing.
+    pub fn failed_grasps(&self) -> usize {
+        self.trips.iter().filter(|t| t.carried.is_empty()).count()
+    }
+}

@@ -1,0 +1,318 @@
+//! An independent check of plans: geometry only, no planning code.
+//!
+//! For every trip, on the scene the trip was planned on:
+//! - **clustering**: a partition of the objects; every cluster of two or more fits the jaws
+//!   (`Σ d* ≤ usable gap`); every two clusters' centroids are split by a line;
+//! - **pushes**, in order, on the table as it stands at that moment: the object starts where it is and
+//!   ends where the push says; its straight sweep touches no other object; the jaw line is
+//!   perpendicular to the push; the fingers at the approach point overlap no object, do not cut into
+//!   the pushed object at contact, and their sweep to the end of the push touches no other object;
+//! - **grasp**, on the table after the pushes: the opening lies within the stroke; the open plates
+//!   overlap no object; every object the grasp claims lies between the plates; the claimed closed width
+//!   is at least the widest claimed object and at most both the sum of their widths along the closing
+//!   axis and the gap between the open plates;
+//! - **carried** objects are on the table.
+
+use nalgebra::{Point2, Vector2};
+
+use super::{Plan, Trip};
+use crate::cluster::summed_diameter;
+use crate::geometry::{ConvexPolygon, cast_distance, overlap, penetration_depth, separating_line};
+use crate::scene::{Gripper, ObjectId, Scene};
+
+/// Numerical slack of the checks, metres.
+const TOLERANCE: f64 = 1e-9;
+/// Penetration accepted where two shapes are meant to touch, metres.
+const TOUCH: f64 = 1e-6;
+
+/// One broken rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Violation {
+    /// The trip (0-based).
+    pub trip: usize,
+    /// What is wrong.
+    pub what: String,
+}
+
+impl std::fmt::Display for Violation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "trip {}: {}", self.trip, self.what)
+    }
+}
+
+/// Every violation in a plan; empty when the plan is sound.
+pub fn verify(plan: &Plan) -> Vec<Violation> {
+    plan.trips
+        .iter()
+        .enumerate()
+        .flat_map(|(k, trip)| {
+            verify_trip(trip)
+                .into_iter()
+                .map(move |what| Violation { trip: k, what })
+        })
+        .collect()
+}
+
+/// Every violation in one trip.
+pub fn verify_trip(trip: &Trip) -> Vec<String> {
+    let scene = match Scene::new(trip.scene.clone()) {
+        Ok(scene) => scene,
+        Err(e) => return vec![format!("the trip's scene is invalid: {e}")],
+    };
+    let mut found = Vec::new();
+    check_clustering(&scene, trip, &mut found);
+    let world = check_pushes(&scene, trip, &mut found);
+    check_grasp(&scene, &world, trip, &mut found);
+    for id in &trip.carried {
+        if scene.index_of(*id).is_none() {
+            found.push(format!("carried object {id} is not on the table"));
+        }
+    }
+    found
+}
+
+fn check_clustering(scene: &Scene, trip: &Trip, found: &mut Vec<String>) {
+    let clusters = &trip.clustering.clusters;
+    if clusters.is_empty() {
+        if trip.cluster.is_some() {
+            found.push("a cluster is chosen from an empty clustering".to_string());
+        }
+        return;
+    }
+    if let Some(k) = trip.cluster
+        && k >= clusters.len()
+    {
+        found.push(format!(
+            "cluster {k} chosen from {} clusters",
+            clusters.len()
+        ));
+    }
+    let mut seen = vec![0usize; scene.len()];
+    let mut indices: Vec<Vec<usize>> = Vec::new();
+    for cluster in clusters {
+        let mut members = Vec::new();
+        for id in cluster {
+            match scene.index_of(*id) {
+                Some(i) => {
+                    seen[i] += 1;
+                    members.push(i);
+                }
+                None => found.push(format!("clustered object {id} is not on the table")),
+            }
+        }
+        indices.push(members);
+    }
+    for (i, count) in seen.iter().enumerate() {
+        if *count != 1 {
+            found.push(format!(
+                "object {} is in {count} clusters",
+                scene.objects()[i].id
+            ));
+        }
+    }
+    let gap = scene.gripper().usable_gap();
+    for (k, members) in indices.iter().enumerate() {
+        let total = summed_diameter(scene, members);
+        if members.len() > 1 && total > gap + TOLERANCE {
+            found.push(format!(
+                "cluster {k}: summed grasp diameters {:.2} mm exceed the {:.2} mm gap",
+                total * 1e3,
+                gap * 1e3
+            ));
+        }
+    }
+    let centroids: Vec<Vec<Point2<f64>>> = indices
+        .iter()
+        .map(|m| m.iter().map(|&i| scene.centroid(i)).collect())
+        .collect();
+    for a in 0..centroids.len() {
+        for b in a + 1..centroids.len() {
+            if separating_line(&centroids[a], &centroids[b], TOLERANCE).is_none() {
+                found.push(format!("clusters {a} and {b} are not separable by a line"));
+            }
+        }
+    }
+}
+
+fn fingers(
+    gripper: &Gripper,
+    centre: &Point2<f64>,
+    jaw_angle: f64,
+    opening: f64,
+) -> Vec<ConvexPolygon> {
+    let jaw_line = Vector2::new(jaw_angle.cos(), jaw_angle.sin());
+    [1.0, -1.0]
+        .iter()
+        .map(|side| {
+            ConvexPolygon::rectangle(
+                &(centre + jaw_line * (side * opening / 2.0)),
+                &jaw_line,
+                gripper.plate_thickness / 2.0,
+                gripper.plate_length / 2.0,
+            )
+        })
+        .collect()
+}
+
+/// Checks the pushes in order and returns the outlines after them.
+fn check_pushes(scene: &Scene, trip: &Trip, found: &mut Vec<String>) -> Vec<ConvexPolygon> {
+    let gripper = scene.gripper();
+    let mut world: Vec<ConvexPolygon> = (0..scene.len())
+        .map(|i| scene.world_polygon(i).clone())
+        .collect();
+    let mut poses: Vec<_> = scene.objects().iter().map(|o| o.pose).collect();
+    let chosen: Option<&Vec<ObjectId>> = trip.cluster.and_then(|k| trip.clustering.clusters.get(k));
+    for (n, push) in trip.pushes.iter().enumerate() {
+        let Some(index) = scene.index_of(push.object) else {
+            found.push(format!(
+                "push {n}: object {} is not on the table",
+                push.object
+            ));
+            continue;
+        };
+        if chosen.is_some_and(|c| !c.contains(&push.object)) {
+            found.push(format!(
+                "push {n}: object {} is not in the chosen cluster",
+                push.object
+            ));
+        }
+        let pose = poses[index];
+        if (pose.x - push.from.x).abs() > TOLERANCE
+            || (pose.y - push.from.y).abs() > TOLERANCE
+            || (pose.yaw - push.from.yaw).abs() > TOLERANCE
+        {
+            found.push(format!(
+                "push {n}: object {} does not start where it stands",
+                push.object
+            ));
+        }
+        let direction = push.direction;
+        if (direction.norm() - 1.0).abs() > 1e-9 || push.distance.is_nan() || push.distance < 0.0 {
+            found.push(format!(
+                "push {n}: direction is not a unit vector or distance is negative"
+            ));
+            continue;
+        }
+        let moved = direction * push.distance;
+        if (push.to.x - push.from.x - moved.x).abs() > TOLERANCE
+            || (push.to.y - push.from.y - moved.y).abs() > TOLERANCE
+        {
+            found.push(format!(
+                "push {n}: the target is not the start moved along the push"
+            ));
+        }
+        for (other, outline) in world.iter().enumerate() {
+            if other == index {
+                continue;
+            }
+            if let Some(hit) = cast_distance(&world[index], &direction, push.distance, outline)
+                && hit < push.distance - TOLERANCE
+            {
+                found.push(format!(
+                    "push {n}: object {} hits object {} after {:.1} mm",
+                    push.object,
+                    scene.objects()[other].id,
+                    hit * 1e3
+                ));
+            }
+        }
+        let fork = &push.fork;
+        let jaw_line = Vector2::new(fork.jaw_angle.cos(), fork.jaw_angle.sin());
+        if jaw_line.dot(&direction).abs() > 1e-6 {
+            found.push(format!(
+                "push {n}: the jaw line is not perpendicular to the push"
+            ));
+        }
+        if ((fork.end - fork.contact) - moved).norm() > TOLERANCE {
+            found.push(format!(
+                "push {n}: the fingers do not travel with the object"
+            ));
+        }
+        let at_contact = fingers(gripper, &fork.contact, fork.jaw_angle, fork.opening);
+        if at_contact
+            .iter()
+            .any(|f| penetration_depth(f, &world[index]) > TOUCH)
+        {
+            found.push(format!(
+                "push {n}: the fingers cut into object {}",
+                push.object
+            ));
+        }
+        let at_approach = fingers(gripper, &fork.approach, fork.jaw_angle, fork.opening);
+        let travel = fork.end - fork.approach;
+        let length = travel.norm();
+        for (other, outline) in world.iter().enumerate() {
+            if at_approach.iter().any(|f| overlap(f, outline, TOLERANCE)) {
+                found.push(format!(
+                    "push {n}: the fingers are lowered onto object {}",
+                    scene.objects()[other].id
+                ));
+            }
+            if other == index || length == 0.0 {
+                continue;
+            }
+            if at_approach
+                .iter()
+                .any(|f| cast_distance(f, &(travel / length), length, outline).is_some())
+            {
+                found.push(format!(
+                    "push {n}: the fingers hit object {}",
+                    scene.objects()[other].id
+                ));
+            }
+        }
+        world[index] = world[index].translated(&moved);
+        poses[index] = push.to;
+    }
+    world
+}
+
+fn check_grasp(scene: &Scene, world: &[ConvexPolygon], trip: &Trip, found: &mut Vec<String>) {
+    let gripper = scene.gripper();
+    let jaws = &trip.grasp.jaws;
+    if !(jaws.opening > gripper.plate_thickness && jaws.opening <= gripper.stroke + TOLERANCE) {
+        found.push(format!(
+            "grasp: opening {:.1} mm is outside the gripper's range",
+            jaws.opening * 1e3
+        ));
+        return;
+    }
+    let axis = jaws.axis();
+    let plates = jaws.plates(gripper);
+    for (index, outline) in world.iter().enumerate() {
+        if plates.iter().any(|p| overlap(p, outline, TOLERANCE)) {
+            found.push(format!(
+                "grasp: a plate lands on object {}",
+                scene.objects()[index].id
+            ));
+        }
+    }
+    let between = jaws.between(gripper);
+    let (mut widest, mut total) = (0.0f64, 0.0);
+    for id in &trip.grasp.objects {
+        let Some(index) = scene.index_of(*id) else {
+            found.push(format!("grasp: object {id} is not on the table"));
+            continue;
+        };
+        if !overlap(&between, &world[index], 0.0) {
+            found.push(format!("grasp: object {id} is not between the plates"));
+        }
+        let width = world[index].width(&axis);
+        widest = widest.max(width);
+        total += width;
+    }
+    let claimed = trip.grasp.width;
+    if !trip.grasp.objects.is_empty()
+        && (claimed < widest - TOUCH
+            || claimed > total + TOUCH
+            || claimed > jaws.gap(gripper) + TOUCH)
+    {
+        found.push(format!(
+            "grasp: closed width {:.2} mm is not between the widest object {:.2} mm and min(sum {:.2} mm, gap {:.2} mm)",
+            claimed * 1e3,
+            widest * 1e3,
+            total * 1e3,
+            jaws.gap(gripper) * 1e3
+        ));
+    }
+}

@@ -1,0 +1,344 @@
+//! Policies and the closed loop that runs them (the Push-MOG paper's Algorithm 1).
+//!
+//! Each trip: observe the table, plan, execute, count the trip, until the table is clear:
+//! - `sog`: pick a graspable object at random (seeded), grasp it alone ([`SingleObject`]).
+//! - `mog`: cluster ([`Hierarchical`]), pick a cluster at random, grasp with [`MultiObject`] on the
+//!   table as it is: multi-object grasps without pushes.
+//! - `push-mog`: cluster, pick a cluster at random, plan fork pushes toward its central object
+//!   ([`TowardCentral`]), predict the table after them, plan the multi-object grasp on the
+//!   prediction, then execute pushes and grasp (the paper's method).
+//!
+//! When the multi-object planner finds nothing for a cluster, a single-object grasp of one of its
+//! objects is tried. An attempt that yields no grasp is recorded with its reason and costs no trip; a
+//! grasp that carries nothing is a trip (a failed grasp). The run stops when the table is clear, when
+//! every object left is wider than the jaw gap, after `max_failed_attempts` fruitless attempts in a
+//! row, or at the trip limit; it never loops forever.
+
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::cluster::{Clusterer, Clustering, Hierarchical, HierarchicalSettings};
+use crate::error::{Error, Result};
+use crate::exec::Executor;
+use crate::grasp::{
+    Grasp, GraspPlanner, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
+};
+use crate::plan::{Plan, RunStatus, Status, Trip};
+use crate::push::{Push, PushPlanner, SkippedPush, TowardCentral, TowardCentralSettings, predict};
+use crate::random::SeededRng;
+use crate::scene::{ObjectId, Scene};
+
+/// Which policy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+pub enum PolicyKind {
+    /// Single-object grasps in random order.
+    #[serde(rename = "sog")]
+    Sog,
+    /// Multi-object grasps of clusters, no pushes.
+    #[serde(rename = "mog")]
+    Mog,
+    /// Fork pushes toward each cluster's central object, then a multi-object grasp (the paper).
+    #[serde(rename = "push-mog")]
+    PushMog,
+}
+
+impl PolicyKind {
+    /// Every policy, in table order.
+    pub const ALL: [PolicyKind; 3] = [PolicyKind::Sog, PolicyKind::Mog, PolicyKind::PushMog];
+
+    /// The policy's name (`sog`, `mog`, `push-mog`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sog => "sog",
+            Self::Mog => "mog",
+            Self::PushMog => "push-mog",
+        }
+    }
+}
+
+impl std::fmt::Display for PolicyKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for PolicyKind {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|kind| kind.name() == text)
+            .ok_or_else(|| {
+                Error::field(
+                    "policy",
+                    "name",
+                    format!("unknown policy `{text}`; choose sog, mog or push-mog"),
+                )
+            })
+    }
+}
+
+/// Settings of every stage of a policy and of the loop.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct PolicySettings {
+    /// Hierarchical clustering (`mog`, `push-mog`).
+    pub clustering: HierarchicalSettings,
+    /// Pushes toward the central object (`push-mog`).
+    pub pushing: TowardCentralSettings,
+    /// Single-object grasps (`sog`, and the fallback of the others).
+    pub single: SingleObjectSettings,
+    /// Multi-object grasps (`mog`, `push-mog`).
+    pub multi: MultiObjectSettings,
+    /// Limits of the loop.
+    pub run: LoopSettings,
+}
+
+/// Limits that keep the closed loop finite.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct LoopSettings {
+    /// Attempts in a row that find no grasp or carry nothing before the run stops. Default 10.
+    pub max_failed_attempts: usize,
+    /// Trips allowed per object on the table at the start (at least one trip). Default 3.
+    pub max_trips_per_object: f64,
+}
+
+impl Default for LoopSettings {
+    fn default() -> Self {
+        Self {
+            max_failed_attempts: 10,
+            max_trips_per_object: 3.0,
+        }
+    }
+}
+
+impl PolicySettings {
+    /// Checks every stage's settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        self.clustering.validate()?;
+        self.pushing.validate()?;
+        self.single.validate()?;
+        self.multi.validate()?;
+        if self.run.max_failed_attempts == 0 {
+            return Err(Error::field(
+                "run",
+                "max_failed_attempts",
+                "must be at least 1",
+            ));
+        }
+        if !(self.run.max_trips_per_object.is_finite() && self.run.max_trips_per_object > 0.0) {
+            return Err(Error::field(
+                "run",
+                "max_trips_per_object",
+                format!("must be positive, got {}", self.run.max_trips_per_object),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A policy ready to run.
+#[derive(Clone, Debug)]
+pub struct Policy {
+    kind: PolicyKind,
+    settings: PolicySettings,
+    clusterer: Hierarchical,
+    pusher: TowardCentral,
+    single: SingleObject,
+    multi: MultiObject,
+}
+
+/// What one planning attempt produced before execution.
+struct Draft {
+    clustering: Clustering,
+    cluster: Option<usize>,
+    pushes: Vec<Push>,
+    skipped: Vec<SkippedPush>,
+    grasp: Grasp,
+}
+
+impl Policy {
+    /// A policy with these settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn new(kind: PolicyKind, settings: PolicySettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self {
+            kind,
+            clusterer: Hierarchical::new(settings.clustering.clone())?,
+            pusher: TowardCentral::new(settings.pushing.clone())?,
+            single: SingleObject::new(settings.single.clone())?,
+            multi: MultiObject::new(settings.multi.clone())?,
+            settings,
+        })
+    }
+
+    /// Which policy this is.
+    pub fn kind(&self) -> PolicyKind {
+        self.kind
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &PolicySettings {
+        &self.settings
+    }
+
+    /// Clears `scene` with `executor`, planning after every observation; `seed` drives the random
+    /// choices (which object or cluster next).
+    ///
+    /// # Errors
+    /// Misuse or an executor fault; a run that cannot clear the table ends with
+    /// [`RunStatus::Stopped`] inside `Ok`.
+    pub fn run(&self, scene: &Scene, executor: &mut dyn Executor, seed: u64) -> Result<Plan> {
+        executor.reset(scene)?;
+        let mut rng = SeededRng::new(seed);
+        let max_trips =
+            ((self.settings.run.max_trips_per_object * scene.len() as f64).ceil() as usize).max(1);
+        let mut trips: Vec<Trip> = Vec::new();
+        let mut failed_attempts: Vec<String> = Vec::new();
+        let mut in_a_row = 0;
+        let status = loop {
+            let observed = executor.observe()?;
+            let remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
+            if observed.is_empty() {
+                break RunStatus::Cleared;
+            }
+            let stop = |reason: String| RunStatus::Stopped {
+                remaining: remaining.clone(),
+                reason,
+            };
+            if observed.ungraspable().len() == observed.len() {
+                break stop("every object left is wider than the jaw gap".to_string());
+            }
+            if in_a_row >= self.settings.run.max_failed_attempts {
+                break stop(format!(
+                    "{in_a_row} attempts in a row found no grasp or carried nothing"
+                ));
+            }
+            if trips.len() >= max_trips {
+                break stop(format!("trip limit of {max_trips} reached"));
+            }
+            let draft = match self.kind {
+                PolicyKind::Sog => self.draft_single(&observed, &mut rng)?,
+                PolicyKind::Mog => self.draft_clustered(&observed, &mut rng, false)?,
+                PolicyKind::PushMog => self.draft_clustered(&observed, &mut rng, true)?,
+            };
+            let draft = match draft {
+                Ok(draft) => draft,
+                Err(reason) => {
+                    failed_attempts.push(reason);
+                    in_a_row += 1;
+                    continue;
+                }
+            };
+            for push in &draft.pushes {
+                executor.push(push)?;
+            }
+            let carried = executor.grasp(&draft.grasp)?;
+            in_a_row = if carried.is_empty() { in_a_row + 1 } else { 0 };
+            trips.push(Trip {
+                scene: observed.to_spec(),
+                clustering: draft.clustering,
+                cluster: draft.cluster,
+                pushes: draft.pushes,
+                skipped_pushes: draft.skipped,
+                grasp: draft.grasp,
+                carried,
+            });
+        };
+        Ok(Plan {
+            policy: self.kind.name().to_string(),
+            executor: executor.name().to_string(),
+            seed,
+            settings: serde_json::to_value(&self.settings).unwrap_or_default(),
+            trips,
+            failed_attempts,
+            status,
+        })
+    }
+
+    fn draft_single(
+        &self,
+        observed: &Scene,
+        rng: &mut SeededRng,
+    ) -> Result<std::result::Result<Draft, String>> {
+        let graspable: Vec<usize> = (0..observed.len())
+            .filter(|&i| observed.is_graspable(i))
+            .collect();
+        let target = observed.objects()[graspable[rng.index(graspable.len())]].id;
+        let outcome = self.single.plan(observed, &[target])?;
+        Ok(match outcome.value {
+            Some(grasp) => Ok(Draft {
+                clustering: Clustering::default(),
+                cluster: None,
+                pushes: Vec::new(),
+                skipped: Vec::new(),
+                grasp,
+            }),
+            None => Err(format!(
+                "object {target}: {}",
+                failure_reason(&outcome.status)
+            )),
+        })
+    }
+
+    fn draft_clustered(
+        &self,
+        observed: &Scene,
+        rng: &mut SeededRng,
+        with_pushes: bool,
+    ) -> Result<std::result::Result<Draft, String>> {
+        let clustering = self.clusterer.cluster(observed)?.value;
+        let candidates: Vec<usize> = (0..clustering.len())
+            .filter(|&k| {
+                clustering.clusters[k]
+                    .iter()
+                    .filter_map(|&id| observed.index_of(id))
+                    .any(|i| observed.is_graspable(i))
+            })
+            .collect();
+        let chosen = candidates[rng.index(candidates.len())];
+        let members = clustering.clusters[chosen].clone();
+        let (pushes, skipped, predicted) = if with_pushes && members.len() > 1 {
+            let plan = self.pusher.plan(observed, &members)?.value;
+            let predicted = predict(observed, &plan.pushes)?;
+            (plan.pushes, plan.skipped, predicted)
+        } else {
+            (Vec::new(), Vec::new(), observed.clone())
+        };
+        let mut outcome = self.multi.plan(&predicted, &members)?;
+        if outcome.value.is_none() {
+            let fallback = self.single.plan(&predicted, &members)?;
+            if fallback.value.is_some() {
+                outcome = fallback;
+            }
+        }
+        Ok(match outcome.value {
+            Some(grasp) => Ok(Draft {
+                clustering,
+                cluster: Some(chosen),
+                pushes,
+                skipped,
+                grasp,
+            }),
+            None => Err(format!(
+                "cluster {:?}: {}",
+                members.iter().map(|id| id.0).collect::<Vec<_>>(),
+                failure_reason(&outcome.status)
+            )),
+        })
+    }
+}
+
+fn failure_reason(status: &Status) -> String {
+    match status {
+        Status::Failed { reason } => reason.clone(),
+        other => format!("{other:?}"),
+    }
+}

@@ -1,0 +1,146 @@
+//! Fork-push geometry: where the fingers go, and whether they can get there.
+//!
+//! For a push of an object along the unit vector `u`, the jaw line (closing axis) is `n ⊥ u` and the
+//! plate centres sit at `g ± n·s/2`, with `s` the fork-push opening (30 % of the stroke). Each finger's
+//! footprint is a plate seen from above: `plate_thickness` along `n` and `plate_length` along `u`.
+//! The gripper centre `g` moves on the line through the object's centroid along `u`:
+//! - **contact** `g_c`: the fingers, swept along `u` from far behind, first touch the object;
+//! - **approach** `g_a = g_c − u·clearance`: where the fingers are lowered;
+//! - **end** `g_e = g_c + u·L` for a push of length `L`.
+//!
+//! Checks: the fingers at `g_a` overlap no object, and the fingers swept from `g_a` to `g_e` touch no
+//! object other than the one pushed.
+
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::SkipReason;
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, cast_distance, overlap};
+use crate::scene::{Gripper, ObjectId};
+
+/// The gripper's motion for one fork push (all points are the gripper centre in the table frame).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ForkPush {
+    /// Where the fingers are lowered, behind the object.
+    pub approach: Point2<f64>,
+    /// Where the fingers first touch the object.
+    pub contact: Point2<f64>,
+    /// Where the push ends; the fingers rise here.
+    pub end: Point2<f64>,
+    /// Direction of the jaw line (closing axis), radians: perpendicular to the push.
+    pub jaw_angle: f64,
+    /// Distance between the plate centres, metres.
+    pub opening: f64,
+}
+
+/// Settings of the fork-push geometry.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct ForkSettings {
+    /// Gap between the fingers and the object where the fingers are lowered, metres. Default 0.01.
+    pub approach_clearance: f64,
+}
+
+impl Default for ForkSettings {
+    fn default() -> Self {
+        Self {
+            approach_clearance: 0.01,
+        }
+    }
+}
+
+impl ForkSettings {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.approach_clearance.is_finite() && self.approach_clearance >= 0.0) {
+            return Err(Error::field(
+                "fork",
+                "approach_clearance",
+                format!(
+                    "must be a non-negative number of metres, got {}",
+                    self.approach_clearance
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The two finger footprints for a gripper centred at `centre` pushing along the unit vector `push`.
+pub fn finger_footprints(
+    gripper: &Gripper,
+    opening: f64,
+    centre: &Point2<f64>,
+    push: &Vector2<f64>,
+) -> [ConvexPolygon; 2] {
+    let jaw_line = Vector2::new(-push.y, push.x);
+    let half_along = gripper.plate_thickness / 2.0;
+    let half_across = gripper.plate_length / 2.0;
+    [1.0, -1.0].map(|side| {
+        ConvexPolygon::rectangle(
+            &(centre + jaw_line * (side * opening / 2.0)),
+            &jaw_line,
+            half_along,
+            half_across,
+        )
+    })
+}
+
+/// Plans the gripper motion that pushes `world[pushed]` by `distance` along the unit vector `push`.
+/// `world` holds every object's outline where it stands now, `ids` their ids.
+///
+/// # Errors
+/// The [`SkipReason`] when the fingers cannot be placed or moved.
+pub fn plan_fork(
+    gripper: &Gripper,
+    settings: &ForkSettings,
+    world: &[ConvexPolygon],
+    ids: &[ObjectId],
+    pushed: usize,
+    push: &Vector2<f64>,
+    distance: f64,
+) -> std::result::Result<ForkPush, SkipReason> {
+    let object = &world[pushed];
+    let centroid = object.centroid();
+    let opening = gripper.fork_push_opening();
+    let reach = object.radius_about(&centroid) + gripper.plate_length + opening + 0.01;
+    let far = centroid - push * reach;
+    let touch = finger_footprints(gripper, opening, &far, push)
+        .iter()
+        .filter_map(|finger| cast_distance(finger, push, 2.0 * reach, object))
+        .fold(f64::INFINITY, f64::min);
+    if !touch.is_finite() {
+        return Err(SkipReason::NoFingerContact);
+    }
+    let contact = far + push * touch;
+    let approach = contact - push * settings.approach_clearance;
+    let end = contact + push * distance;
+    let travel = settings.approach_clearance + distance;
+    let fingers = finger_footprints(gripper, opening, &approach, push);
+    for (index, other) in world.iter().enumerate() {
+        if index == pushed {
+            continue;
+        }
+        if fingers.iter().any(|f| overlap(f, other, 0.0)) {
+            return Err(SkipReason::NoRoomForFingers { object: ids[index] });
+        }
+        if fingers
+            .iter()
+            .any(|f| cast_distance(f, push, travel, other).is_some())
+        {
+            return Err(SkipReason::FingersHit { object: ids[index] });
+        }
+    }
+    let jaw_line = Vector2::new(-push.y, push.x);
+    Ok(ForkPush {
+        approach,
+        contact,
+        end,
+        jaw_angle: jaw_line.y.atan2(jaw_line.x),
+        opening,
+    })
+}

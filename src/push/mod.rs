@@ -1,0 +1,121 @@
+//! Pushing: move a cluster's objects together with fork pushes so one grasp can lift them.
+//!
+//! A *fork push* (Push-MOG paper) opens the jaws partly (30 % of the stroke by default) with the jaw
+//! line perpendicular to the push, lowers the fingers behind the object and moves them in a straight
+//! line; a vertex can sit between the fingers and an edge rests against both, so the object follows
+//! the fingers without turning much. [`fork`] holds that geometry and its collision checks;
+//! [`TowardCentral`] is the paper's Algorithm 3; [`predict`] moves objects to their targets, as the
+//! paper does to plan the grasp before executing the pushes.
+
+mod central;
+pub mod fork;
+mod predict;
+
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::plan::Outcome;
+use crate::scene::{ObjectId, Pose, Scene};
+
+pub use central::{TowardCentral, TowardCentralSettings};
+pub use fork::{ForkPush, ForkSettings};
+pub use predict::predict;
+
+/// One planned fork push: an object translated along a straight line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Push {
+    /// The object pushed.
+    pub object: ObjectId,
+    /// Its pose before the push.
+    pub from: Pose,
+    /// Its planned pose after the push (same yaw: pushes plan translations only, as in the paper).
+    pub to: Pose,
+    /// Unit push direction in the table frame.
+    pub direction: Vector2<f64>,
+    /// Push length, metres.
+    pub distance: f64,
+    /// The gripper's motion.
+    pub fork: ForkPush,
+}
+
+impl Push {
+    /// The displacement of the object, metres.
+    pub fn displacement(&self) -> Vector2<f64> {
+        self.direction * self.distance
+    }
+
+    /// Where the object's pose origin starts, metres.
+    pub fn start_point(&self) -> Point2<f64> {
+        Point2::new(self.from.x, self.from.y)
+    }
+}
+
+/// Why an object of a cluster is not pushed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SkipReason {
+    /// It is already within the stopping gap of its target; nothing to do.
+    AlreadyInPlace,
+    /// Its path meets an object outside the cluster before it comes close to the cluster.
+    BlockedBy {
+        /// The object in the way.
+        object: ObjectId,
+    },
+    /// The fingers cannot be lowered behind it without touching another object.
+    NoRoomForFingers {
+        /// The object in the way.
+        object: ObjectId,
+    },
+    /// The fingers would hit another object on their way.
+    FingersHit {
+        /// The object in the way.
+        object: ObjectId,
+    },
+    /// The fingers would not meet the object (it fits between them).
+    NoFingerContact,
+}
+
+impl std::fmt::Display for SkipReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::AlreadyInPlace => write!(f, "already in place"),
+            Self::BlockedBy { object } => write!(f, "path blocked by object {object}"),
+            Self::NoRoomForFingers { object } => {
+                write!(f, "no room to lower the fingers (object {object})")
+            }
+            Self::FingersHit { object } => write!(f, "fingers would hit object {object}"),
+            Self::NoFingerContact => write!(f, "the object fits between the fingers"),
+        }
+    }
+}
+
+/// An object that is not pushed, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SkippedPush {
+    /// The object.
+    pub object: ObjectId,
+    /// Why.
+    pub reason: SkipReason,
+}
+
+/// The pushes planned for one cluster.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PushPlan {
+    /// Pushes in execution order.
+    pub pushes: Vec<Push>,
+    /// Objects not pushed, with reasons (never dropped silently).
+    pub skipped: Vec<SkippedPush>,
+}
+
+/// A way to plan the pushes that bring one cluster together.
+pub trait PushPlanner {
+    /// A short name for logs and tables (`toward-central`, `socp`).
+    fn name(&self) -> &'static str;
+
+    /// Plans the pushes for `cluster` (object ids of `scene`).
+    ///
+    /// # Errors
+    /// Only for misuse, such as an id that is not in the scene.
+    fn plan(&self, scene: &Scene, cluster: &[ObjectId]) -> Result<Outcome<PushPlan>>;
+}

@@ -1,0 +1,128 @@
+//! Drawing a plan over its first scene: objects coloured by the trip that carries them, each trip's
+//! cluster outlined and numbered in execution order, push arrows with dashed targets, and the jaw
+//! plates of every grasp.
+
+use nalgebra::Point2;
+
+use super::figure::{Figure, RenderOptions};
+use super::svg::Style;
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, convex_hull};
+use crate::plan::Plan;
+use crate::scene::Scene;
+
+/// Colours of trips, cycled (Tableau 10).
+const PALETTE: [&str; 10] = [
+    "#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#ff9da7",
+    "#9c755f", "#bab0ac",
+];
+
+/// The colour of trip `k` (0-based).
+pub fn trip_colour(k: usize) -> &'static str {
+    PALETTE[k % PALETTE.len()]
+}
+
+/// The SVG drawing of a plan over the scene of its first trip.
+///
+/// # Errors
+/// [`Error::InvalidField`] for a plan without trips; scene validation errors for a corrupt plan.
+pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<String> {
+    let first = plan
+        .trips
+        .first()
+        .ok_or_else(|| Error::field("plan", "trips", "the plan has no trips to draw"))?;
+    let scene = Scene::new(first.scene.clone())?;
+    let mut fills: Vec<Option<String>> = vec![None; scene.len()];
+    for (k, trip) in plan.trips.iter().enumerate() {
+        for id in &trip.carried {
+            if let Some(i) = scene.index_of(*id) {
+                fills[i] = Some(light(trip_colour(k)));
+            }
+        }
+    }
+    let mut figure = Figure::new(&scene, options);
+    figure.objects(&fills);
+    let gripper = scene.gripper().clone();
+    for (k, trip) in plan.trips.iter().enumerate() {
+        let colour = trip_colour(k);
+        let trip_scene = Scene::new(trip.scene.clone())?;
+        let members: Vec<usize> = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
+            Some(cluster) => trip_scene.indices_of(cluster)?,
+            None => trip_scene.indices_of(&trip.grasp.objects)?,
+        };
+        let canvas = figure.canvas();
+        canvas.begin_group(&format!("trip-{}", k + 1));
+        // The cluster's outline, slightly enlarged around its objects.
+        let points: Vec<Point2<f64>> = members
+            .iter()
+            .flat_map(|&i| trip_scene.world_polygon(i).vertices().to_vec())
+            .collect();
+        let hull = convex_hull(&points);
+        if hull.len() >= 3 {
+            let mut style = Style::outline(colour, 1.5);
+            style.dash = "6 3".to_string();
+            canvas.polygon(&grow(&hull, 0.006), &style);
+        }
+        for push in &trip.pushes {
+            let Some(i) = trip_scene.index_of(push.object) else {
+                continue;
+            };
+            let object = &trip_scene.objects()[i];
+            let target = object.polygon.transformed(&push.to.isometry());
+            let mut ghost = Style::outline(colour, 1.2);
+            ghost.dash = "3 2".to_string();
+            canvas.polygon(target.vertices(), &ghost);
+            canvas.arrow(
+                &trip_scene.centroid(i),
+                &target.centroid(),
+                8.0,
+                &Style::outline(colour, 2.0),
+            );
+        }
+        for plate in trip.grasp.jaws.plates(&gripper) {
+            let mut style = Style::filled(colour, "#202020");
+            style.fill_opacity = 0.85;
+            canvas.polygon(plate.vertices(), &style);
+        }
+        // The trip number beside the cluster.
+        if let Some(top) = points.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)) {
+            let at = Point2::new(top.x, top.y + 0.012);
+            canvas.dot(&at, 8.0, &Style::filled(colour, "white"));
+            canvas.label(&at, &(k + 1).to_string(), 10.0, "white");
+        }
+        canvas.end_group();
+    }
+    figure.legend_entry("#202020", "jaw plates");
+    figure.legend_entry("#808080", "push (dashed: target)");
+    Ok(figure.finish(title))
+}
+
+/// A colour mixed halfway with white, for fills under outlines.
+fn light(hex: &str) -> String {
+    let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(128);
+    let mix = |c: u8| (u16::from(c) + 255) / 2;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(channel(1)),
+        mix(channel(3)),
+        mix(channel(5))
+    )
+}
+
+/// The hull pushed outward by `by` metres from its centroid (for drawing only).
+fn grow(hull: &[Point2<f64>], by: f64) -> Vec<Point2<f64>> {
+    let centre = ConvexPolygon::new(hull.to_vec())
+        .map(|p| p.centroid())
+        .unwrap_or(hull[0]);
+    hull.iter()
+        .map(|p| {
+            let out = p - centre;
+            let length = out.norm();
+            if length > 0.0 {
+                p + out / length * by
+            } else {
+                *p
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,271 @@
+//! The paper's baselines piece by piece: clustering splits, pushes toward the central object, the
+//! grasp model on known arrangements, and the conformance of every implementation of each trait.
+
+use nalgebra::Point2;
+use pushmog::cluster::{Clusterer, Hierarchical, fits_jaws, separability_conflicts};
+use pushmog::exec::Ideal;
+use pushmog::geometry::ConvexPolygon;
+use pushmog::grasp::{
+    GraspModel, GraspPlanner, JawPose, MultiObject, SingleObject, Squeeze, squeeze,
+};
+use pushmog::plan::{RunStatus, verify};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::push::{PushPlanner, TowardCentral, predict};
+use pushmog::scene::{
+    GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
+    generate_scene,
+};
+
+fn polygon(points: &[(f64, f64)]) -> ConvexPolygon {
+    ConvexPolygon::new(points.iter().map(|&(x, y)| Point2::new(x, y)).collect()).unwrap()
+}
+
+fn square(side: f64) -> ConvexPolygon {
+    let h = side / 2.0;
+    polygon(&[(-h, -h), (h, -h), (h, h), (-h, h)])
+}
+
+fn object(id: u32, outline: ConvexPolygon, x: f64, y: f64) -> Object {
+    Object {
+        id: ObjectId(id),
+        name: None,
+        polygon: outline,
+        pose: Pose::new(x, y, 0.0),
+        height: 0.03,
+        mass: None,
+    }
+}
+
+fn scene(objects: Vec<Object>) -> Scene {
+    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
+}
+
+/// Index lists of a clustering, for the clustering checks.
+fn clusters_as_indices(scene: &Scene, clusterer: &dyn Clusterer) -> (Vec<Vec<usize>>, f64) {
+    let outcome = clusterer.cluster(scene).unwrap();
+    let splits = outcome.stats.counter("splits").unwrap();
+    let clusters = outcome
+        .value
+        .clusters
+        .iter()
+        .map(|c| scene.indices_of(c).unwrap())
+        .collect();
+    (clusters, splits)
+}
+
+#[test]
+fn a_cluster_of_three_squares_splits_once() {
+    // Σ d* = 90 mm > 75 mm: one split leaves a pair and a single.
+    let s = scene(
+        (0..3)
+            .map(|k| object(k, square(0.03), 0.1 + 0.04 * k as f64, 0.2))
+            .collect(),
+    );
+    let (clusters, splits) = clusters_as_indices(&s, &Hierarchical::default());
+    assert_eq!(splits, 1.0);
+    assert_eq!(clusters.len(), 2);
+    assert!(clusters.iter().all(|c| fits_jaws(&s, c)));
+}
+
+#[test]
+fn a_cluster_of_five_squares_splits_twice() {
+    // A plus sign of 30 mm squares, 4 cm apart: all within 8 cm, Σ d* = 150 mm. The most even split
+    // is 2 | 3 (60 | 90 mm); the three must split again.
+    let at = [
+        (0.0, 0.0),
+        (0.04, 0.0),
+        (-0.04, 0.0),
+        (0.0, 0.04),
+        (0.0, -0.04),
+    ];
+    let s = scene(
+        at.iter()
+            .enumerate()
+            .map(|(k, &(x, y))| object(k as u32, square(0.03), 0.25 + x, 0.2 + y))
+            .collect(),
+    );
+    let (clusters, splits) = clusters_as_indices(&s, &Hierarchical::default());
+    assert_eq!(splits, 2.0);
+    assert_eq!(clusters.len(), 3);
+    assert!(clusters.iter().all(|c| fits_jaws(&s, c)));
+    assert!(separability_conflicts(&s, &clusters).is_empty());
+}
+
+/// Three equal equilateral triangles, alternately up and down, sharing edges: a row 56 mm long.
+fn triangle_row() -> Scene {
+    let side = 0.028;
+    let h = side * 3f64.sqrt() / 2.0;
+    let up = polygon(&[(0.0, 0.0), (side, 0.0), (side / 2.0, h)]);
+    let down = polygon(&[(side / 2.0, h), (side, 0.0), (3.0 * side / 2.0, h)]);
+    scene(vec![
+        object(0, up.clone(), 0.2, 0.2),
+        object(1, down, 0.2, 0.2),
+        object(2, up, 0.2 + side, 0.2),
+    ])
+}
+
+#[test]
+fn three_equilateral_triangles_in_a_row_slip() {
+    let s = triangle_row();
+    // Σ d* = 72.7 mm fits the 75 mm gap: the paper's footnote case.
+    assert!(fits_jaws(&s, &[0, 1, 2]));
+    let jaws = JawPose {
+        center: Point2::new(0.2 + 0.028, 0.2 + 0.01),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    let outcome = squeeze(&s, &jaws, &GraspModel::default());
+    assert_eq!(outcome, Squeeze::Slips { object: 1 }, "{outcome:?}");
+    // Only with friction above tan 30° could the middle one hold.
+    let grippy = GraspModel {
+        friction_object: 0.6,
+        ..GraspModel::default()
+    };
+    assert!(matches!(squeeze(&s, &jaws, &grippy), Squeeze::Held { .. }));
+}
+
+#[test]
+fn three_equilateral_triangles_are_handled_without_a_crash() {
+    let s = triangle_row();
+    for kind in PolicyKind::ALL {
+        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+        let plan = policy.run(&s, &mut Ideal::default(), 1).unwrap();
+        assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
+        assert!(plan.trips.iter().all(|t| t.carried.len() < 3), "{kind}");
+        match kind {
+            // Touching neighbours leave no room for the jaws around a single triangle.
+            PolicyKind::Sog => match &plan.status {
+                RunStatus::Stopped { remaining, reason } => {
+                    assert_eq!(remaining.len(), 3);
+                    assert!(reason.contains("attempts in a row"), "{reason}");
+                    assert!(!plan.failed_attempts.is_empty());
+                }
+                other => panic!("sog: {other:?}"),
+            },
+            _ => assert_eq!(plan.status, RunStatus::Cleared, "{kind}"),
+        }
+    }
+}
+
+#[test]
+fn two_squares_side_by_side_are_held_together() {
+    let s = scene(vec![
+        object(0, square(0.03), 0.2, 0.2),
+        object(1, square(0.03), 0.231, 0.2),
+    ]);
+    let jaws = JawPose {
+        center: Point2::new(0.2155, 0.2),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    match squeeze(&s, &jaws, &GraspModel::default()) {
+        Squeeze::Held { objects, width } => {
+            assert_eq!(objects, vec![0, 1]);
+            assert!((width - 0.060).abs() < 1e-9, "{width}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Turned 90°, the jaws catch both squares side by side: not a row.
+    let across = JawPose {
+        angle: std::f64::consts::FRAC_PI_2,
+        ..jaws
+    };
+    assert!(matches!(
+        squeeze(&s, &across, &GraspModel::default()),
+        Squeeze::NotARow { .. }
+    ));
+}
+
+#[test]
+fn pushes_toward_the_central_object_stop_short_of_it() {
+    let s = scene(vec![
+        object(0, square(0.03), 0.20, 0.2),
+        object(1, square(0.03), 0.26, 0.2),
+        object(2, square(0.03), 0.32, 0.2),
+    ]);
+    let ids = [ObjectId(0), ObjectId(1), ObjectId(2)];
+    let plan = TowardCentral::default().plan(&s, &ids).unwrap().value;
+    // Object 1 is central; both others move 28 mm toward it (30 mm free minus the 2 mm gap).
+    assert_eq!(plan.pushes.len(), 2, "{plan:?}");
+    for push in &plan.pushes {
+        assert!((push.distance - 0.028).abs() < 1e-6, "{}", push.distance);
+    }
+    let after = predict(&s, &plan.pushes).unwrap();
+    let x: Vec<f64> = after.objects().iter().map(|o| o.pose.x).collect();
+    assert!(
+        (x[0] - 0.228).abs() < 1e-6 && (x[2] - 0.292).abs() < 1e-6,
+        "{x:?}"
+    );
+}
+
+#[test]
+fn a_push_blocked_by_an_outside_object_is_reported() {
+    // Object 2 sits between the two cluster members.
+    let s = scene(vec![
+        object(0, square(0.03), 0.20, 0.2),
+        object(1, square(0.03), 0.30, 0.2),
+        object(2, square(0.02), 0.25, 0.2),
+    ]);
+    let plan = TowardCentral::default()
+        .plan(&s, &[ObjectId(0), ObjectId(1)])
+        .unwrap()
+        .value;
+    assert!(plan.pushes.is_empty());
+    assert_eq!(plan.skipped.len(), 1);
+    assert_eq!(
+        plan.skipped[0].reason,
+        pushmog::push::SkipReason::BlockedBy {
+            object: ObjectId(2)
+        }
+    );
+}
+
+/// One conformance suite per trait, over every implementation, on the same seeded scenes.
+#[test]
+fn conformance_of_every_planner() {
+    let clusterers: Vec<Box<dyn Clusterer>> = vec![Box::new(Hierarchical::default())];
+    let pushers: Vec<Box<dyn PushPlanner>> = vec![Box::new(TowardCentral::default())];
+    let graspers: Vec<Box<dyn GraspPlanner>> = vec![
+        Box::new(SingleObject::default()),
+        Box::new(MultiObject::default()),
+    ];
+    for seed in 0..5 {
+        let s = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        for clusterer in &clusterers {
+            let outcome = clusterer.cluster(&s).unwrap();
+            let clusters: Vec<Vec<usize>> = outcome
+                .value
+                .clusters
+                .iter()
+                .map(|c| s.indices_of(c).unwrap())
+                .collect();
+            let mut all: Vec<usize> = clusters.iter().flatten().copied().collect();
+            all.sort_unstable();
+            assert_eq!(
+                all,
+                (0..s.len()).collect::<Vec<_>>(),
+                "{}",
+                clusterer.name()
+            );
+            assert!(clusters.iter().all(|c| fits_jaws(&s, c)));
+            assert!(separability_conflicts(&s, &clusters).is_empty());
+            for cluster in &outcome.value.clusters {
+                for pusher in &pushers {
+                    let plan = pusher.plan(&s, cluster).unwrap().value;
+                    // Every non-central object is pushed or skipped with a reason.
+                    assert!(plan.pushes.len() + plan.skipped.len() + 1 >= cluster.len());
+                    let after = predict(&s, &plan.pushes).unwrap();
+                    for grasper in &graspers {
+                        if let Some(grasp) = grasper.plan(&after, cluster).unwrap().value {
+                            assert!(grasp.objects.iter().any(|id| cluster.contains(id)));
+                            assert!(grasp.jaws.opening <= s.gripper().stroke + 1e-12);
+                        }
+                    }
+                }
+            }
+        }
+        // Unknown ids are misuse, reported as errors.
+        assert!(pushers[0].plan(&s, &[ObjectId(999)]).is_err());
+        assert!(graspers[1].plan(&s, &[ObjectId(999)]).is_err());
+    }
+}

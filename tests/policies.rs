@@ -1,0 +1,92 @@
+//! The baselines end to end: every plan of every policy passes the independent verifier, and the
+//! objects-per-trip figures behave as the policies' designs say.
+
+use pushmog::exec::Ideal;
+use pushmog::plan::{Plan, RunStatus, verify};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::scene::{GeneratorSettings, Scene, builtin_object_set, generate_scene};
+
+fn scene(seed: u64) -> Scene {
+    generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap()
+}
+
+fn run(kind: PolicyKind, scene: &Scene, seed: u64) -> Plan {
+    let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+    let mut executor = Ideal::new(policy.settings().multi.model.clone());
+    policy.run(scene, &mut executor, seed).unwrap()
+}
+
+/// Scenes for the verification sweep: 200 by default (the acceptance figure); set
+/// `PUSHMOG_VERIFY_SCENES` to run more or fewer.
+fn sweep_size() -> u64 {
+    std::env::var("PUSHMOG_VERIFY_SCENES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(200)
+}
+
+#[test]
+fn every_plan_of_every_policy_verifies_on_200_scenes() {
+    let mut failures = Vec::new();
+    for seed in 0..sweep_size() {
+        let scene = scene(seed);
+        for kind in PolicyKind::ALL {
+            let plan = run(kind, &scene, seed);
+            let violations = verify(&plan);
+            if !violations.is_empty() {
+                failures.push(format!("seed {seed} {kind}: {}", violations[0]));
+            }
+            if plan.status != RunStatus::Cleared {
+                failures.push(format!("seed {seed} {kind}: {:?}", plan.status));
+            }
+            assert_eq!(plan.objects_carried() + remaining(&plan), scene.len());
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+fn remaining(plan: &Plan) -> usize {
+    match &plan.status {
+        RunStatus::Cleared => 0,
+        RunStatus::Stopped { remaining, .. } => remaining.len(),
+    }
+}
+
+#[test]
+fn sog_carries_exactly_one_object_per_trip() {
+    for seed in 0..20 {
+        let plan = run(PolicyKind::Sog, &scene(seed), seed);
+        assert_eq!(plan.objects_per_trip(), 1.0, "seed {seed}");
+        assert!(plan.trips.iter().all(|t| t.carried.len() == 1));
+    }
+}
+
+#[test]
+fn pushing_raises_objects_per_trip_over_mog() {
+    let (mut mog, mut push_mog) = (0.0, 0.0);
+    for seed in 0..20 {
+        let scene = scene(seed);
+        mog += run(PolicyKind::Mog, &scene, seed).objects_per_trip();
+        push_mog += run(PolicyKind::PushMog, &scene, seed).objects_per_trip();
+    }
+    assert!(
+        push_mog > mog,
+        "push-mog {} vs mog {}",
+        push_mog / 20.0,
+        mog / 20.0
+    );
+}
+
+#[test]
+fn runs_are_reproducible() {
+    let scene = scene(4);
+    assert_eq!(
+        run(PolicyKind::PushMog, &scene, 9),
+        run(PolicyKind::PushMog, &scene, 9)
+    );
+}
