@@ -7,12 +7,18 @@
 //! objects per trip (OpT). The method follows the Push-MOG paper (Aeron et al., CASE 2023); pushmog keeps
 //! its heuristics as baselines and adds optimal planners, a physics simulator and an experiment runner.
 //!
-//! This release holds the foundation every planner stands on:
-//! - [`geometry`]: convex polygons, minimum grasp diameters, separating lines, distances (parry2d).
+//! Modules, in the order data flows through them:
+//! - [`geometry`]: convex polygons, minimum grasp diameters, separating lines, sliding and contact.
 //! - [`scene`]: objects, the gripper, the workspace and the validated [`Scene`]; the built-in object
 //!   library and the seeded scene generator.
-//! - [`render`]: SVG drawings of scenes.
-//! - [`json`]: reading and writing scenes with errors that give line, column and field.
+//! - [`cluster`]: partitions into clusters that fit the jaws (the paper's hierarchical clustering).
+//! - [`push`]: fork pushes that bring a cluster together (the paper's pushes toward the central object).
+//! - [`grasp`]: jaw poses and the analytic model of what a closing holds; single- and multi-object
+//!   planners.
+//! - [`exec`]: executors that carry plans out (the ideal one applies them exactly).
+//! - [`policy`]: `sog`, `mog`, `push-mog` and the closed loop of the paper's Algorithm 1.
+//! - [`plan`]: what a run records, and [`plan::verify`], the independent checker.
+//! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors.
 //!
 //! ```
 //! use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
