@@ -19,6 +19,7 @@
 //! - [`policy`]: `sog`, `mog`, `push-mog` and the closed loop of the paper's Algorithm 1.
 //! - [`plan`]: what a run records, and [`plan::verify`], the independent checker.
 //! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors.
+//! - [`time_model`]: seconds per trip and per push, for objectives and picks per hour.
 //!
 //! ```
 //! use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
@@ -38,6 +39,7 @@ pub mod push;
 pub mod random;
 pub mod render;
 pub mod scene;
+pub mod time_model;
 
 pub use error::{Error, Result};
 pub use scene::Scene;

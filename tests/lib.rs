@@ -3,6 +3,7 @@
 
 mod baselines;
 mod cli;
+mod clustering_milp;
 mod generator;
 mod geometry_properties;
 mod policies;

@@ -90,3 +90,23 @@ fn runs_are_reproducible() {
         run(PolicyKind::PushMog, &scene, 9)
     );
 }
+
+#[test]
+fn push_mog_with_milp_clustering_verifies() {
+    let settings = PolicySettings {
+        clusterer: pushmog::policy::ClustererKind::Milp,
+        ..PolicySettings::default()
+    };
+    let policy = Policy::new(PolicyKind::PushMog, settings).unwrap();
+    for seed in 0..50 {
+        let scene = scene(seed);
+        let mut executor = Ideal::new(policy.settings().multi.model.clone());
+        let plan = policy.run(&scene, &mut executor, seed).unwrap();
+        assert!(
+            verify(&plan).is_empty(),
+            "seed {seed}: {:?}",
+            verify(&plan).first()
+        );
+        assert_eq!(plan.status, RunStatus::Cleared, "seed {seed}");
+    }
+}

@@ -8,10 +8,14 @@
 //!
 //! A single object is a valid cluster even when it is wider than the gap (it is then ungraspable,
 //! which the grasp planner reports). Implementations: [`Hierarchical`] (the Push-MOG paper's
-//! Algorithm 2, with pushmog's separability repair). The optimal clustering is
-//! `formulations/clustering.md` (a later issue).
+//! Algorithm 2, with pushmog's separability repair) and [`Milp`] (optimal for the model of
+//! `formulations/clustering.md`, with the objectives of [`CostModel`]).
 
+mod candidates;
+mod compare;
 mod hierarchical;
+mod milp;
+mod objective;
 mod separability;
 mod split;
 
@@ -21,7 +25,11 @@ use crate::error::Result;
 use crate::plan::Outcome;
 use crate::scene::{ObjectId, Scene};
 
+pub use candidates::{clashing_pairs, compact_candidates};
+pub use compare::{SceneComparison, compare_clustering, comparison_markdown};
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
+pub use milp::{Milp, MilpBackend, MilpSettings};
+pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};
 pub use separability::{repair_separability, separability_conflicts};
 pub use split::{SplitSettings, split_until_valid};
 

@@ -10,7 +10,7 @@ mod outcome;
 mod verify;
 
 pub use outcome::{Outcome, Stats, Status};
-pub use verify::{Violation, verify, verify_trip};
+pub use verify::{Violation, verify, verify_clustering, verify_trip};
 
 use serde::{Deserialize, Serialize};
 

@@ -32,6 +32,8 @@ pub struct Stats {
     pub objective: Option<f64>,
     /// Best bound on the objective, when known.
     pub bound: Option<f64>,
+    /// Relative gap between the objective and the bound, when known.
+    pub gap: Option<f64>,
     /// The backend's own status string, kept verbatim.
     pub backend_status: Option<String>,
     /// Named counts (splits, candidates evaluated, iterations, …).

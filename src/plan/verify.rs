@@ -16,6 +16,7 @@
 use nalgebra::{Point2, Vector2};
 
 use super::{Plan, Trip};
+use crate::cluster::Clustering;
 use crate::cluster::summed_diameter;
 use crate::geometry::{ConvexPolygon, cast_distance, overlap, penetration_depth, separating_line};
 use crate::scene::{Gripper, ObjectId, Scene};
@@ -87,6 +88,14 @@ fn check_clustering(scene: &Scene, trip: &Trip, found: &mut Vec<String>) {
             clusters.len()
         ));
     }
+    found.extend(verify_clustering(scene, &trip.clustering));
+}
+
+/// Every violation of a clustering of `scene`: not a partition, a cluster over capacity, two clusters
+/// no line separates.
+pub fn verify_clustering(scene: &Scene, clustering: &Clustering) -> Vec<String> {
+    let clusters = &clustering.clusters;
+    let mut found = Vec::new();
     let mut seen = vec![0usize; scene.len()];
     let mut indices: Vec<Vec<usize>> = Vec::new();
     for cluster in clusters {
@@ -132,6 +141,7 @@ fn check_clustering(scene: &Scene, trip: &Trip, found: &mut Vec<String>) {
             }
         }
     }
+    found
 }
 
 fn fingers(

@@ -2,8 +2,9 @@
 //!
 //! Each trip: observe the table, plan, execute, count the trip, until the table is clear:
 //! - `sog`: pick a graspable object at random (seeded), grasp it alone ([`SingleObject`]).
-//! - `mog`: cluster ([`Hierarchical`]), pick a cluster at random, grasp with [`MultiObject`] on the
-//!   table as it is: multi-object grasps without pushes.
+//! - `mog`: cluster ([`Hierarchical`] by default, or [`Milp`] with `clusterer = "milp"`), pick a
+//!   cluster at random, grasp with [`MultiObject`] on the table as it is: multi-object grasps without
+//!   pushes.
 //! - `push-mog`: cluster, pick a cluster at random, plan fork pushes toward its central object
 //!   ([`TowardCentral`]), predict the table after them, plan the multi-object grasp on the
 //!   prediction, then execute pushes and grasp (the paper's method).
@@ -18,7 +19,9 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cluster::{Clusterer, Clustering, Hierarchical, HierarchicalSettings};
+use crate::cluster::{
+    Clusterer, Clustering, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
+};
 use crate::error::{Error, Result};
 use crate::exec::Executor;
 use crate::grasp::{
@@ -79,12 +82,29 @@ impl FromStr for PolicyKind {
     }
 }
 
+/// Which clusterer the clustered policies use.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum ClustererKind {
+    /// The paper's hierarchical clustering.
+    #[default]
+    Hierarchical,
+    /// The optimal set-partitioning MILP.
+    Milp,
+}
+
 /// Settings of every stage of a policy and of the loop.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PolicySettings {
-    /// Hierarchical clustering (`mog`, `push-mog`).
+    /// Which clusterer `mog` and `push-mog` use. Default `hierarchical` (the paper's).
+    pub clusterer: ClustererKind,
+    /// Hierarchical clustering.
     pub clustering: HierarchicalSettings,
+    /// The optimal clustering (used when `clusterer` is `milp`).
+    pub milp: MilpSettings,
     /// Pushes toward the central object (`push-mog`).
     pub pushing: TowardCentralSettings,
     /// Single-object grasps (`sog`, and the fallback of the others).
@@ -121,6 +141,7 @@ impl PolicySettings {
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
         self.clustering.validate()?;
+        self.milp.validate()?;
         self.pushing.validate()?;
         self.single.validate()?;
         self.multi.validate()?;
@@ -147,10 +168,26 @@ impl PolicySettings {
 pub struct Policy {
     kind: PolicyKind,
     settings: PolicySettings,
-    clusterer: Hierarchical,
+    clusterer: AnyClusterer,
     pusher: TowardCentral,
     single: SingleObject,
     multi: MultiObject,
+}
+
+/// One of the clusterers, chosen by the settings.
+#[derive(Clone, Debug)]
+enum AnyClusterer {
+    Hierarchical(Hierarchical),
+    Milp(Milp),
+}
+
+impl AnyClusterer {
+    fn get(&self) -> &dyn Clusterer {
+        match self {
+            Self::Hierarchical(c) => c,
+            Self::Milp(c) => c,
+        }
+    }
 }
 
 /// What one planning attempt produced before execution.
@@ -171,7 +208,12 @@ impl Policy {
         settings.validate()?;
         Ok(Self {
             kind,
-            clusterer: Hierarchical::new(settings.clustering.clone())?,
+            clusterer: match settings.clusterer {
+                ClustererKind::Hierarchical => {
+                    AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
+                }
+                ClustererKind::Milp => AnyClusterer::Milp(Milp::new(settings.milp.clone())?),
+            },
             pusher: TowardCentral::new(settings.pushing.clone())?,
             single: SingleObject::new(settings.single.clone())?,
             multi: MultiObject::new(settings.multi.clone())?,
@@ -294,7 +336,7 @@ impl Policy {
         rng: &mut SeededRng,
         with_pushes: bool,
     ) -> Result<std::result::Result<Draft, String>> {
-        let clustering = self.clusterer.cluster(observed)?.value;
+        let clustering = self.clusterer.get().cluster(observed)?.value;
         let candidates: Vec<usize> = (0..clustering.len())
             .filter(|&k| {
                 clustering.clusters[k]

@@ -3,6 +3,10 @@
 use std::io::Read as _;
 use std::path::Path;
 
+use pushmog::cluster::{
+    Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
+    compare_clustering as compare, comparison_markdown,
+};
 use pushmog::error::{Error, Result};
 use pushmog::exec::{Executor, Ideal};
 use pushmog::json::{self, to_json};
@@ -13,7 +17,7 @@ use pushmog::scene::{
     GeneratorSettings, ObjectSet, Scene, Workspace, builtin_object_set, generate_scene,
 };
 
-use super::{GenerateArgs, PlanArgs, RenderArgs, RunArgs, SchemaFormat};
+use super::{ClusterArgs, CompareArgs, GenerateArgs, PlanArgs, RenderArgs, RunArgs, SchemaFormat};
 
 /// Reads a file, or standard input for `-`.
 fn read_input(path: &Path) -> Result<(String, String)> {
@@ -200,6 +204,116 @@ fn summary(plan: &Plan, objects: usize) -> String {
         )),
     }
     out
+}
+
+fn settings_or_default<T: serde::de::DeserializeOwned + Default>(path: Option<&Path>) -> Result<T> {
+    match path {
+        Some(path) => {
+            let (text, source) = read_input(path)?;
+            json::from_json::<T>(&text, &source)
+        }
+        None => Ok(T::default()),
+    }
+}
+
+pub fn cluster(args: &ClusterArgs) -> Result<()> {
+    let scene = read_scene(&args.scene)?;
+    let settings = args.settings.as_deref();
+    let outcome = match args.method.as_str() {
+        "milp" => Milp::new(settings_or_default::<MilpSettings>(settings)?)?.cluster(&scene)?,
+        "hierarchical" => {
+            Hierarchical::new(settings_or_default::<HierarchicalSettings>(settings)?)?
+                .cluster(&scene)?
+        }
+        other => {
+            return Err(Error::field(
+                "cluster",
+                "--method",
+                format!("unknown clusterer `{other}`; choose hierarchical or milp"),
+            ));
+        }
+    };
+    for (k, cluster) in outcome.value.clusters.iter().enumerate() {
+        let ids: Vec<String> = cluster.iter().map(|id| id.to_string()).collect();
+        println!("cluster {k:>3}: {}", ids.join(" "));
+    }
+    println!("\nstatus       {:?}", outcome.status);
+    let stats = &outcome.stats;
+    println!("clusters     {}", outcome.value.len());
+    if let Some(objective) = stats.objective {
+        println!("objective    {objective:.6}");
+    }
+    if let Some(bound) = stats.bound {
+        println!("bound        {bound:.6}");
+    }
+    if let Some(gap) = stats.gap {
+        println!("gap          {gap:.2e}");
+    }
+    println!("solve time   {:.2} ms", stats.seconds * 1e3);
+    if let Some(backend) = &stats.backend_status {
+        println!("backend      {backend}");
+    }
+    for (name, value) in &stats.counters {
+        println!("{name:<12} {value}");
+    }
+    Ok(())
+}
+
+pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
+    let milp: MilpSettings = settings_or_default(args.settings.as_deref())?;
+    // Keep the default object density when the count changes: area grows with the count.
+    let base = GeneratorSettings::default();
+    let scale = (args.objects as f64 / base.objects as f64).sqrt().max(1.0);
+    let generator = GeneratorSettings {
+        objects: args.objects,
+        workspace: Workspace::new(
+            base.workspace.width() * scale,
+            base.workspace.depth() * scale,
+        ),
+        ..base
+    };
+    eprintln!(
+        "comparing on {} scenes of {} objects (seeds {}..{})",
+        args.scenes,
+        args.objects,
+        args.seed,
+        args.seed + args.scenes as u64
+    );
+    let rows = compare(
+        &generator,
+        &builtin_object_set(),
+        &milp,
+        args.scenes,
+        args.seed,
+    )?;
+    print!("{}", comparison_markdown(&rows));
+    if args.per_scene {
+        println!(
+            "\n| seed | hierarchical trips | time (s) | milp trips | time (s) | status | solve (ms) | fewest trips | status | solve (ms) |"
+        );
+        println!("|---:|---:|---:|---:|---:|---|---:|---:|---|---:|");
+        for r in &rows {
+            println!(
+                "| {} | {} | {:.1} | {} | {:.1} | {:?} | {:.2} | {} | {:?} | {:.2} |",
+                r.seed,
+                r.hierarchical_trips,
+                r.hierarchical_seconds,
+                r.milp_trips,
+                r.milp_seconds,
+                r.milp_status,
+                r.milp_solve * 1e3,
+                r.fewest_trips,
+                r.fewest_status,
+                r.fewest_solve * 1e3
+            );
+        }
+    }
+    for r in &rows {
+        for v in &r.violations {
+            eprintln!("seed {}: {v}", r.seed);
+        }
+    }
+    Ok(())
 }
 
 pub fn verify(path: &Path) -> Result<()> {

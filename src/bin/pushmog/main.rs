@@ -27,6 +27,10 @@ enum Command {
     Plan(PlanArgs),
     /// Clear a scene with a policy and print trips, objects per trip and failures.
     Run(RunArgs),
+    /// Cluster one scene and print the clusters with the solver's status and statistics.
+    Cluster(ClusterArgs),
+    /// Compare hierarchical against optimal (MILP) clustering over seeded scenes; prints a Markdown table.
+    CompareClustering(CompareArgs),
     /// Check a plan file with the independent verifier.
     Verify {
         /// Plan file written by `pushmog plan`.
@@ -136,6 +140,37 @@ struct RunArgs {
 }
 
 #[derive(Args, Debug)]
+struct ClusterArgs {
+    /// Scene file (`-` for standard input).
+    scene: PathBuf,
+    /// Clusterer: hierarchical or milp.
+    #[arg(long, default_value = "milp")]
+    method: String,
+    /// Settings of the clusterer as JSON (fields not given keep their defaults).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// Number of scenes.
+    #[arg(long, default_value_t = 100)]
+    scenes: usize,
+    /// Seed of the first scene (the others follow).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Objects per scene.
+    #[arg(long, default_value_t = 34)]
+    objects: usize,
+    /// MILP settings as JSON (fields not given keep their defaults).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Also print one row per scene.
+    #[arg(long)]
+    per_scene: bool,
+}
+
+#[derive(Args, Debug)]
 struct RenderArgs {
     /// Scene or plan file (`-` for standard input).
     scene: PathBuf,
@@ -171,6 +206,8 @@ fn main() -> ExitCode {
         Command::Plan(args) => commands::plan(&args),
         Command::Run(args) => commands::run(&args),
         Command::Verify { plan } => commands::verify(&plan),
+        Command::CompareClustering(args) => commands::compare_clustering(&args),
+        Command::Cluster(args) => commands::cluster(&args),
         Command::Render(args) => commands::render(&args),
         Command::Schema { format } => commands::schema(format),
         Command::Library { json, output } => commands::library(json, output.as_deref()),

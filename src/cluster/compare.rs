@@ -1,0 +1,213 @@
+//! Hierarchical against optimal clustering over seeded scenes: the table `pushmog
+//! compare-clustering` prints.
+//!
+//! Every clustering is scored with the same [`CostModel`] (predicted seconds of trips and pushes), so
+//! the columns compare like with like; "trips" is the number of clusters, one grasp each. Both MILP
+//! objectives are run: `time` (the default) and `fewest_clusters` (the paper's aim).
+
+use std::fmt::Write as _;
+
+use super::objective::{ClusterObjective, CostModel, centroid_diameter};
+use super::{Clusterer, Hierarchical, Milp, MilpSettings};
+use crate::error::Result;
+use crate::plan::{Status, verify_clustering};
+use crate::scene::{GeneratorSettings, ObjectSet, generate_scene};
+
+/// One scene's figures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneComparison {
+    /// The scene's seed.
+    pub seed: u64,
+    /// Clusters of the hierarchical clustering.
+    pub hierarchical_trips: usize,
+    /// Its predicted seconds.
+    pub hierarchical_seconds: f64,
+    /// Its solve time, seconds.
+    pub hierarchical_solve: f64,
+    /// Clusters of the MILP minimising time.
+    pub milp_trips: usize,
+    /// Its predicted seconds (the objective).
+    pub milp_seconds: f64,
+    /// Its solve time, seconds.
+    pub milp_solve: f64,
+    /// Its status.
+    pub milp_status: Status,
+    /// Clusters of the MILP minimising clusters, then spread.
+    pub fewest_trips: usize,
+    /// Its predicted seconds.
+    pub fewest_seconds: f64,
+    /// Its solve time, seconds.
+    pub fewest_solve: f64,
+    /// Its status.
+    pub fewest_status: Status,
+    /// Verification failures of the three clusterings.
+    pub violations: Vec<String>,
+}
+
+/// Runs the comparison on `scenes` scenes with seeds `first_seed, first_seed + 1, …`.
+///
+/// # Errors
+/// Invalid settings or a scene that cannot be generated.
+pub fn compare_clustering(
+    generator: &GeneratorSettings,
+    set: &ObjectSet,
+    milp: &MilpSettings,
+    scenes: usize,
+    first_seed: u64,
+) -> Result<Vec<SceneComparison>> {
+    let hierarchical = Hierarchical::new(milp.heuristic.clone())?;
+    let by_time = Milp::new(MilpSettings {
+        objective: ClusterObjective::Time,
+        ..milp.clone()
+    })?;
+    let by_count = Milp::new(MilpSettings {
+        objective: ClusterObjective::FewestClusters,
+        ..milp.clone()
+    })?;
+    let mut rows = Vec::with_capacity(scenes);
+    for seed in first_seed..first_seed + scenes as u64 {
+        let scene = generate_scene(generator, set, seed)?;
+        let score = |clusters: &[Vec<crate::scene::ObjectId>]| -> Result<f64> {
+            let indices = clusters
+                .iter()
+                .map(|c| scene.indices_of(c))
+                .collect::<Result<Vec<_>>>()?;
+            let widest = indices
+                .iter()
+                .map(|c| centroid_diameter(&scene, c))
+                .fold(0.0, f64::max);
+            let model = CostModel::new(
+                &scene,
+                ClusterObjective::Time,
+                &milp.time_model,
+                milp.min_push,
+                widest,
+            );
+            Ok(model.clustering_cost(&indices))
+        };
+        let h = hierarchical.cluster(&scene)?;
+        let t = by_time.cluster(&scene)?;
+        let f = by_count.cluster(&scene)?;
+        let mut violations = Vec::new();
+        for (name, outcome) in [("hierarchical", &h), ("milp", &t), ("fewest", &f)] {
+            for v in verify_clustering(&scene, &outcome.value) {
+                violations.push(format!("{name}: {v}"));
+            }
+        }
+        rows.push(SceneComparison {
+            seed,
+            hierarchical_trips: h.value.len(),
+            hierarchical_seconds: score(&h.value.clusters)?,
+            hierarchical_solve: h.stats.seconds,
+            milp_trips: t.value.len(),
+            milp_seconds: score(&t.value.clusters)?,
+            milp_solve: t.stats.seconds,
+            milp_status: t.status,
+            fewest_trips: f.value.len(),
+            fewest_seconds: score(&f.value.clusters)?,
+            fewest_solve: f.stats.seconds,
+            fewest_status: f.status,
+            violations,
+        });
+    }
+    Ok(rows)
+}
+
+fn mean_std(values: &[f64]) -> (f64, f64) {
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
+}
+
+fn quantile(values: &[f64], q: f64) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// The Markdown report of a comparison.
+pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "| clustering | trips | predicted time (s) | solve time (ms): median | p95 | max | proven optimal |"
+    );
+    let _ = writeln!(out, "|---|---|---|---:|---:|---:|---:|");
+    let column = |trips: &dyn Fn(&SceneComparison) -> usize,
+                  seconds: &dyn Fn(&SceneComparison) -> f64,
+                  solve: &dyn Fn(&SceneComparison) -> f64| {
+        let t: Vec<f64> = rows.iter().map(|r| trips(r) as f64).collect();
+        let s: Vec<f64> = rows.iter().map(seconds).collect();
+        let ms: Vec<f64> = rows.iter().map(|r| solve(r) * 1e3).collect();
+        let (tm, ts) = mean_std(&t);
+        let (sm, ss) = mean_std(&s);
+        (
+            format!("{tm:.2} ± {ts:.2}"),
+            format!("{sm:.1} ± {ss:.1}"),
+            format!(
+                "{:.2} | {:.2} | {:.2}",
+                quantile(&ms, 0.5),
+                quantile(&ms, 0.95),
+                quantile(&ms, 1.0)
+            ),
+        )
+    };
+    let n = rows.len();
+    let (a, b, c) = column(
+        &|r| r.hierarchical_trips,
+        &|r| r.hierarchical_seconds,
+        &|r| r.hierarchical_solve,
+    );
+    let _ = writeln!(out, "| hierarchical (paper) | {a} | {b} | {c} | – |");
+    let optimal = rows
+        .iter()
+        .filter(|r| r.milp_status == Status::Optimal)
+        .count();
+    let (a, b, c) = column(&|r| r.milp_trips, &|r| r.milp_seconds, &|r| r.milp_solve);
+    let _ = writeln!(
+        out,
+        "| milp, objective time | {a} | {b} | {c} | {optimal}/{n} |"
+    );
+    let optimal = rows
+        .iter()
+        .filter(|r| r.fewest_status == Status::Optimal)
+        .count();
+    let (a, b, c) = column(&|r| r.fewest_trips, &|r| r.fewest_seconds, &|r| {
+        r.fewest_solve
+    });
+    let _ = writeln!(
+        out,
+        "| milp, objective fewest clusters | {a} | {b} | {c} | {optimal}/{n} |"
+    );
+    let time_not_worse = rows
+        .iter()
+        .filter(|r| r.milp_seconds <= r.hierarchical_seconds + 1e-9)
+        .count();
+    let trips_not_more = rows
+        .iter()
+        .filter(|r| r.fewest_trips <= r.hierarchical_trips)
+        .count();
+    let fewer = rows
+        .iter()
+        .filter(|r| r.fewest_trips < r.hierarchical_trips)
+        .count();
+    let verified = rows.iter().filter(|r| r.violations.is_empty()).count();
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "- milp (time) predicted time ≤ hierarchical on {time_not_worse}/{n} scenes"
+    );
+    let _ = writeln!(
+        out,
+        "- milp (fewest clusters) trips ≤ hierarchical on {trips_not_more}/{n} scenes, fewer on {fewer}"
+    );
+    let _ = writeln!(
+        out,
+        "- clusterings passing the verifier (partition, capacity, separability): {verified}/{n} scenes"
+    );
+    out
+}

@@ -1,0 +1,582 @@
+//! Optimal clustering as a set-partitioning MILP (`formulations/clustering.md`), solved with good_lp.
+//!
+//! Variables `x_S ∈ {0, 1}` over the candidate clusters `K` ([`compact_candidates`] plus the
+//! clusters of the hierarchical heuristic, so its answer is always a feasible point):
+//!
+//! ```text
+//! minimise   Σ_S c_S x_S
+//! subject to Σ_{S ∋ o} x_S = 1        for every object o      (a partition)
+//!            x_S + x_T ≤ 1            for every clashing pair  (separable clusters)
+//! ```
+//!
+//! with `c_S` from [`CostModel`]. The default backend is the pure-Rust `microlp`; the `highs` feature
+//! adds HiGHS. The heuristic's clustering is passed as a warm start; when the solver stops without an
+//! answer as good as the heuristic's (time limit, failure) the heuristic's clustering is returned with
+//! the solver's status. After every solve the chosen clusters are checked geometrically; a clash the
+//! model missed would be added as a row and the model solved again.
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use good_lp::solvers::{
+    Solution as _, SolverModel, WithInitialSolution, WithMipGap, WithTimeLimit,
+};
+use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variable, variable};
+use serde::{Deserialize, Serialize};
+
+use super::candidates::{clashing_pairs, compact_candidates};
+use super::hierarchical::{Hierarchical, HierarchicalSettings};
+use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
+use super::separability::separability_conflicts;
+use super::{Clusterer, Clustering};
+use crate::error::{Error, Result};
+use crate::plan::{Outcome, Stats, Status};
+use crate::scene::Scene;
+use crate::time_model::TimeModel;
+
+/// Which MILP solver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum MilpBackend {
+    /// microlp, pure Rust (always available).
+    Microlp,
+    /// HiGHS (needs the `highs` feature: cmake and libclang at build time).
+    Highs,
+}
+
+/// Settings of [`Milp`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct MilpSettings {
+    /// What to minimise. Default `time`.
+    pub objective: ClusterObjective,
+    /// Largest number of objects in a candidate cluster. Default 4 (the 75 mm gap holds at most three
+    /// objects of the built-in set, so 4 does not bind there).
+    pub max_cluster_size: usize,
+    /// Largest distance between two centroids of a candidate cluster (push reach), metres. Default
+    /// 0.10, the hierarchical clustering's default cut height.
+    pub max_diameter: f64,
+    /// Pushes estimated shorter than this are not made, metres. Default 0.003 (as the push planner).
+    pub min_push: f64,
+    /// Wall-clock limit of one solve, seconds. Default 10.
+    pub time_limit: f64,
+    /// Relative gap at which the solver may stop. Default 0 (prove optimality).
+    pub mip_gap: f64,
+    /// The solver. Default `microlp`.
+    pub backend: MilpBackend,
+    /// Solve the fewest-clusters objective in two stages (count, then spread among clusterings with
+    /// that count) rather than as one weighted sum. Default true: the weighted sum's near-ties slow
+    /// the proof by orders of magnitude (`formulations/clustering.md`).
+    pub two_stage_fewest_clusters: bool,
+    /// Seconds per trip and per push.
+    pub time_model: TimeModel,
+    /// The heuristic whose clusters join the candidates and warm-start the solver.
+    pub heuristic: HierarchicalSettings,
+}
+
+impl Default for MilpSettings {
+    fn default() -> Self {
+        Self {
+            objective: ClusterObjective::Time,
+            max_cluster_size: 4,
+            max_diameter: 0.10,
+            min_push: 0.003,
+            time_limit: 10.0,
+            mip_gap: 0.0,
+            backend: MilpBackend::Microlp,
+            two_stage_fewest_clusters: true,
+            time_model: TimeModel::default(),
+            heuristic: HierarchicalSettings::default(),
+        }
+    }
+}
+
+impl MilpSettings {
+    /// Checks every field, and that the chosen backend is compiled in.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        if self.max_cluster_size == 0 {
+            return Err(Error::field(
+                "milp",
+                "max_cluster_size",
+                "must be at least 1",
+            ));
+        }
+        for (field, value) in [
+            ("max_diameter", self.max_diameter),
+            ("min_push", self.min_push),
+            ("mip_gap", self.mip_gap),
+        ] {
+            if value.is_nan() || value < 0.0 {
+                return Err(Error::field(
+                    "milp",
+                    field,
+                    format!("must be non-negative, got {value}"),
+                ));
+            }
+        }
+        if !(self.time_limit.is_finite() && self.time_limit > 0.0) {
+            return Err(Error::field(
+                "milp",
+                "time_limit",
+                format!(
+                    "must be a positive number of seconds, got {}",
+                    self.time_limit
+                ),
+            ));
+        }
+        if self.backend == MilpBackend::Highs && !cfg!(feature = "highs") {
+            return Err(Error::field(
+                "milp",
+                "backend",
+                "HiGHS is not compiled in: build with `--features highs` (needs cmake and libclang)",
+            ));
+        }
+        self.time_model.validate()?;
+        self.heuristic.validate()
+    }
+}
+
+/// Optimal clustering by set partitioning.
+#[derive(Clone, Debug, Default)]
+pub struct Milp {
+    settings: MilpSettings,
+}
+
+/// What one solver call returned.
+struct Solved {
+    status: Status,
+    chosen: Vec<usize>,
+    bound: Option<f64>,
+    gap: Option<f64>,
+    nodes: Option<u64>,
+    iterations: Option<u64>,
+    backend_status: String,
+}
+
+/// The model's data, independent of the backend.
+struct Model<'a> {
+    costs: &'a [f64],
+    covering: &'a [Vec<usize>],
+    clashes: &'a [(usize, usize)],
+    warm: &'a [usize],
+    /// Fix the number of clusters (the second stage of the fewest-clusters objective).
+    count: Option<usize>,
+    mip_gap: f64,
+    time_limit: f64,
+}
+
+impl Milp {
+    /// A clusterer with these settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range or the backend is not compiled in.
+    pub fn new(settings: MilpSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self { settings })
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &MilpSettings {
+        &self.settings
+    }
+
+    /// Solves one stage, adding any clash the rows missed (checked geometrically) and solving again.
+    #[allow(clippy::too_many_arguments)]
+    fn stage(
+        &self,
+        scene: &Scene,
+        candidates: &[Vec<usize>],
+        covering: &[Vec<usize>],
+        clashes: &mut Vec<(usize, usize)>,
+        model: Model<'_>,
+        deadline: Instant,
+        rounds: &mut usize,
+    ) -> Solved {
+        if scene.is_empty() {
+            return Solved {
+                status: Status::Optimal,
+                chosen: Vec::new(),
+                bound: Some(0.0),
+                gap: Some(0.0),
+                nodes: Some(0),
+                iterations: Some(0),
+                backend_status: "empty scene".to_string(),
+            };
+        }
+        loop {
+            *rounds += 1;
+            let remaining = deadline
+                .saturating_duration_since(Instant::now())
+                .as_secs_f64();
+            let solved = self.solve(&Model {
+                covering,
+                clashes,
+                time_limit: remaining.max(1e-3),
+                ..model
+            });
+            let picked: Vec<Vec<usize>> = solved
+                .chosen
+                .iter()
+                .map(|&k| candidates[k].clone())
+                .collect();
+            let missed: Vec<(usize, usize)> = separability_conflicts(scene, &picked)
+                .into_iter()
+                .map(|(a, b)| {
+                    let (a, b) = (solved.chosen[a], solved.chosen[b]);
+                    (a.min(b), a.max(b))
+                })
+                .filter(|pair| !clashes.contains(pair))
+                .collect();
+            if missed.is_empty() || *rounds >= 20 {
+                return solved;
+            }
+            clashes.extend(missed);
+        }
+    }
+
+    fn solve(&self, model: &Model<'_>) -> Solved {
+        match self.settings.backend {
+            MilpBackend::Microlp => self.solve_microlp(model),
+            #[cfg(feature = "highs")]
+            MilpBackend::Highs => self.solve_highs(model),
+            #[cfg(not(feature = "highs"))]
+            MilpBackend::Highs => failed("HiGHS is not compiled in".to_string()),
+        }
+    }
+
+    fn solve_microlp(&self, model: &Model<'_>) -> Solved {
+        let (problem, x, rows) = build(model);
+        let mut solver = problem
+            .using(good_lp::microlp)
+            .with_time_limit(model.time_limit)
+            .with_initial_solution(warm_start(model, &x));
+        if model.mip_gap > 0.0 {
+            match solver.with_mip_gap(model.mip_gap as f32) {
+                Ok(with_gap) => solver = with_gap,
+                Err(e) => return failed(format!("mip gap: {e}")),
+            }
+        }
+        for row in rows {
+            solver.add_constraint(row);
+        }
+        match solver.solve() {
+            Ok(solution) => {
+                let chosen = chosen(&x, |v| solution.value(v));
+                let inner = solution.into_inner();
+                let stats = inner.stats();
+                let reason = inner.termination_reason();
+                let status = match reason {
+                    microlp::TerminationReason::ProvenOptimal => Status::Optimal,
+                    microlp::TerminationReason::MipGap => Status::Feasible,
+                    _ => Status::TimeLimit,
+                };
+                Solved {
+                    status,
+                    chosen,
+                    bound: stats.best_bound,
+                    gap: inner.gap(),
+                    nodes: Some(stats.nodes_solved),
+                    iterations: Some(stats.lp_iterations),
+                    backend_status: format!("microlp: {reason:?}"),
+                }
+            }
+            Err(error) => resolution_failure(error),
+        }
+    }
+
+    #[cfg(feature = "highs")]
+    fn solve_highs(&self, model: &Model<'_>) -> Solved {
+        let (problem, x, rows) = build(model);
+        let mut solver = problem
+            .using(good_lp::highs)
+            .with_time_limit(model.time_limit)
+            .with_initial_solution(warm_start(model, &x));
+        if model.mip_gap > 0.0 {
+            match solver.with_mip_gap(model.mip_gap as f32) {
+                Ok(with_gap) => solver = with_gap,
+                Err(e) => return failed(format!("mip gap: {e}")),
+            }
+        }
+        for row in rows {
+            solver.add_constraint(row);
+        }
+        match solver.solve() {
+            Ok(solution) => {
+                let status = match solution.status() {
+                    good_lp::SolutionStatus::Optimal => Status::Optimal,
+                    good_lp::SolutionStatus::GapLimit => Status::Feasible,
+                    _ => Status::TimeLimit,
+                };
+                Solved {
+                    chosen: chosen(&x, |v| solution.value(v)),
+                    backend_status: format!("highs: {:?}", solution.status()),
+                    status,
+                    bound: None,
+                    gap: None,
+                    nodes: None,
+                    iterations: None,
+                }
+            }
+            Err(error) => resolution_failure(error),
+        }
+    }
+}
+
+fn failed(reason: String) -> Solved {
+    Solved {
+        backend_status: reason.clone(),
+        status: Status::Failed { reason },
+        chosen: Vec::new(),
+        bound: None,
+        gap: None,
+        nodes: None,
+        iterations: None,
+    }
+}
+
+fn resolution_failure(error: ResolutionError) -> Solved {
+    match error {
+        ResolutionError::Infeasible => Solved {
+            status: Status::Infeasible,
+            ..failed("infeasible".to_string())
+        },
+        ResolutionError::Other(message) if message.contains("Time limit") => Solved {
+            status: Status::TimeLimit,
+            ..failed(message.to_string())
+        },
+        other => failed(other.to_string()),
+    }
+}
+
+/// The backend-independent model: variables, objective and rows.
+fn build(
+    model: &Model<'_>,
+) -> (
+    good_lp::variable::UnsolvedProblem,
+    Vec<Variable>,
+    Vec<Constraint>,
+) {
+    let mut variables = ProblemVariables::new();
+    let x: Vec<Variable> = model
+        .costs
+        .iter()
+        .map(|_| variables.add(variable().binary()))
+        .collect();
+    let objective: Expression = x.iter().zip(model.costs).map(|(&v, &c)| c * v).sum();
+    let mut rows = Vec::with_capacity(model.covering.len() + model.clashes.len());
+    for cover in model.covering {
+        let sum: Expression = cover.iter().map(|&k| x[k]).sum();
+        rows.push(good_lp::constraint::eq(sum, 1.0));
+    }
+    for &(a, b) in model.clashes {
+        rows.push(good_lp::constraint::leq(x[a] + x[b], 1.0));
+    }
+    if let Some(count) = model.count {
+        let all: Expression = x.iter().copied().sum();
+        rows.push(good_lp::constraint::eq(all, count as f64));
+    }
+    (variables.minimise(objective), x, rows)
+}
+
+fn warm_start(model: &Model<'_>, x: &[Variable]) -> Vec<(Variable, f64)> {
+    x.iter()
+        .enumerate()
+        .map(|(k, &v)| (v, if model.warm.contains(&k) { 1.0 } else { 0.0 }))
+        .collect()
+}
+
+fn chosen(x: &[Variable], value: impl Fn(Variable) -> f64) -> Vec<usize> {
+    x.iter()
+        .enumerate()
+        .filter(|&(_, &v)| value(v) > 0.5)
+        .map(|(k, _)| k)
+        .collect()
+}
+
+impl Clusterer for Milp {
+    fn name(&self) -> &'static str {
+        "milp"
+    }
+
+    fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>> {
+        let started = Instant::now();
+        let settings = &self.settings;
+        let heuristic = Hierarchical::new(settings.heuristic.clone())?.cluster(scene)?;
+        let heuristic_clusters: Vec<Vec<usize>> = heuristic
+            .value
+            .clusters
+            .iter()
+            .map(|c| {
+                let mut members = scene.indices_of(c)?;
+                members.sort_unstable();
+                Ok(members)
+            })
+            .collect::<Result<_>>()?;
+        let mut candidates =
+            compact_candidates(scene, settings.max_cluster_size, settings.max_diameter);
+        let mut known: HashSet<Vec<usize>> = candidates.iter().cloned().collect();
+        let mut warm = Vec::new();
+        for cluster in &heuristic_clusters {
+            if known.insert(cluster.clone()) {
+                candidates.push(cluster.clone());
+            }
+            if let Some(k) = candidates.iter().position(|c| c == cluster) {
+                warm.push(k);
+            }
+        }
+        let largest = candidates
+            .iter()
+            .map(|c| centroid_diameter(scene, c))
+            .fold(0.0, f64::max);
+        let costs_model = CostModel::new(
+            scene,
+            settings.objective,
+            &settings.time_model,
+            settings.min_push,
+            largest,
+        );
+        let costs: Vec<f64> = candidates
+            .iter()
+            .map(|c| costs_model.cluster_cost(c))
+            .collect();
+        let mut covering: Vec<Vec<usize>> = vec![Vec::new(); scene.len()];
+        for (k, candidate) in candidates.iter().enumerate() {
+            for &o in candidate {
+                covering[o].push(k);
+            }
+        }
+        let mut clashes = clashing_pairs(scene, &candidates);
+        let heuristic_cost = costs_model.clustering_cost(&heuristic_clusters);
+        let clash_rows = clashes.len();
+
+        let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
+        let mut rounds = 0;
+        let mut stage = |costs: &[f64], gap: f64, count: Option<usize>, warm: &[usize]| {
+            self.stage(
+                scene,
+                &candidates,
+                &covering,
+                &mut clashes,
+                Model {
+                    costs,
+                    covering: &covering,
+                    clashes: &[],
+                    warm,
+                    count,
+                    mip_gap: gap,
+                    time_limit: 0.0,
+                },
+                deadline,
+                &mut rounds,
+            )
+        };
+        let solved = match settings.objective {
+            ClusterObjective::Time => stage(&costs, settings.mip_gap, None, &warm),
+            ClusterObjective::FewestClusters if !settings.two_stage_fewest_clusters => {
+                stage(&costs, settings.mip_gap, None, &warm)
+            }
+            ClusterObjective::FewestClusters => {
+                // Stage 1: fewest clusters. The count is an integer, so a gap below one cluster
+                // proves it; stage 2: least spread among clusterings with that count.
+                let ones = vec![1.0; candidates.len()];
+                let proof_gap = settings
+                    .mip_gap
+                    .max(0.99 / heuristic_clusters.len().max(1) as f64);
+                let first = stage(&ones, proof_gap, None, &warm);
+                if first.chosen.is_empty() {
+                    first
+                } else {
+                    let count = first.chosen.len();
+                    let count_proven = first.status == Status::Optimal
+                        || first
+                            .bound
+                            .is_some_and(|b| (b - 1e-6).ceil() >= count as f64);
+                    let spreads: Vec<f64> = candidates.iter().map(|c| spread(scene, c)).collect();
+                    let second = stage(&spreads, settings.mip_gap, Some(count), &first.chosen);
+                    let epsilon = costs_model.epsilon();
+                    let status = match (&second.status, count_proven) {
+                        (Status::Optimal, true) => Status::Optimal,
+                        (Status::Optimal | Status::Feasible, _) => Status::Feasible,
+                        (other, _) => other.clone(),
+                    };
+                    let chosen = if second.chosen.is_empty() {
+                        first.chosen
+                    } else {
+                        second.chosen
+                    };
+                    Solved {
+                        status,
+                        chosen,
+                        bound: match (count_proven, second.bound) {
+                            (true, Some(b)) => Some(count as f64 + epsilon * b),
+                            _ => first.bound,
+                        },
+                        gap: second.gap,
+                        nodes: first.nodes.zip(second.nodes).map(|(a, b)| a + b),
+                        iterations: first.iterations.zip(second.iterations).map(|(a, b)| a + b),
+                        backend_status: format!(
+                            "{}; then {}",
+                            first.backend_status, second.backend_status
+                        ),
+                    }
+                }
+            }
+        };
+
+        let picked: Vec<Vec<usize>> = solved
+            .chosen
+            .iter()
+            .map(|&k| candidates[k].clone())
+            .collect();
+        let is_partition = {
+            let mut all: Vec<usize> = picked.iter().flatten().copied().collect();
+            all.sort_unstable();
+            all == (0..scene.len()).collect::<Vec<_>>()
+        };
+        let usable = is_partition && separability_conflicts(scene, &picked).is_empty();
+        let solver_cost = costs_model.clustering_cost(&picked);
+        let (clusters, objective, fell_back) = if usable && solver_cost <= heuristic_cost + 1e-9 {
+            (picked, solver_cost, false)
+        } else {
+            (heuristic_clusters, heuristic_cost, true)
+        };
+        let clustering = Clustering {
+            clusters: clusters
+                .iter()
+                .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
+                .collect(),
+        }
+        .normalised();
+        let mut counters = vec![
+            ("candidates".to_string(), candidates.len() as f64),
+            ("clash_rows".to_string(), clash_rows as f64),
+            ("variables".to_string(), candidates.len() as f64),
+            ("constraints".to_string(), (scene.len() + clash_rows) as f64),
+            ("solves".to_string(), rounds as f64),
+            ("heuristic_objective".to_string(), heuristic_cost),
+            ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
+            ("clusters".to_string(), clustering.len() as f64),
+        ];
+        if let Some(nodes) = solved.nodes {
+            counters.push(("nodes".to_string(), nodes as f64));
+        }
+        if let Some(iterations) = solved.iterations {
+            counters.push(("lp_iterations".to_string(), iterations as f64));
+        }
+        Ok(Outcome {
+            value: clustering,
+            status: solved.status,
+            stats: Stats {
+                seconds: started.elapsed().as_secs_f64(),
+                objective: Some(objective),
+                bound: solved.bound,
+                gap: solved.gap,
+                backend_status: Some(solved.backend_status),
+                counters,
+            },
+        })
+    }
+}
