@@ -7,5 +7,6 @@ mod clustering_milp;
 mod generator;
 mod geometry_properties;
 mod policies;
+mod pushing_socp;
 mod scene_json;
 mod support;

@@ -21,5 +21,5 @@ mod separation;
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use polygon::{ConvexPolygon, PolygonError, cross};
 pub use queries::{distance, overlap, point_distance};
-pub use sat::{ContactPatch, cast_distance, contact_patch, penetration_depth};
+pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};

@@ -279,6 +279,21 @@ impl ConvexPolygon {
         bounds(&self.vertices)
     }
 
+    /// The bounding box of this polygon swept along `offset` (its start and end positions together).
+    pub fn swept_box(&self, offset: &Vector2<f64>) -> (Point2<f64>, Point2<f64>) {
+        let (lo, hi) = self.bounding_box();
+        (
+            Point2::new(lo.x.min(lo.x + offset.x), lo.y.min(lo.y + offset.y)),
+            Point2::new(hi.x.max(hi.x + offset.x), hi.y.max(hi.y + offset.y)),
+        )
+    }
+
+    /// Whether this polygon's bounding box meets the box `[lo, hi]` (a cheap test before exact ones).
+    pub fn box_meets(&self, (lo, hi): (Point2<f64>, Point2<f64>)) -> bool {
+        let (a, b) = self.bounding_box();
+        a.x <= hi.x && lo.x <= b.x && a.y <= hi.y && lo.y <= b.y
+    }
+
     /// The largest distance in metres from `center` to a vertex: the radius of the smallest circle
     /// around `center` that holds the polygon.
     pub fn radius_about(&self, center: &Point2<f64>) -> f64 {

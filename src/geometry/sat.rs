@@ -91,6 +91,20 @@ pub fn cast_distance(
     Some(enter.max(0.0))
 }
 
+/// The separating axis of largest separation between two polygons: the unit normal pointing out of
+/// `first` toward `second`, and the separation along it in metres (negative when they overlap; then
+/// its magnitude is the penetration depth).
+pub fn max_separation(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
+    let mut best = (Vector2::x(), f64::NEG_INFINITY);
+    for axis in normals(first).chain(normals(second).map(|n| -n)) {
+        let separation = second.projection(&axis).0 - first.projection(&axis).1;
+        if separation > best.1 {
+            best = (axis, separation);
+        }
+    }
+    best
+}
+
 /// Where two touching (or nearly touching) polygons meet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPatch {
@@ -108,15 +122,7 @@ pub fn contact_patch(
     second: &ConvexPolygon,
     tolerance: f64,
 ) -> Option<ContactPatch> {
-    // Largest separation over the axes, oriented out of `first`.
-    let mut best: Option<(f64, Vector2<f64>)> = None;
-    for axis in normals(first).chain(normals(second).map(|n| -n)) {
-        let separation = second.projection(&axis).0 - first.projection(&axis).1;
-        if best.is_none_or(|(s, _)| separation > s) {
-            best = Some((separation, axis));
-        }
-    }
-    let (separation, normal) = best?;
+    let (normal, separation) = max_separation(first, second);
     if separation.abs() > tolerance {
         return None;
     }

@@ -22,7 +22,7 @@ use crate::plan::Outcome;
 use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;
-pub use model::{GraspModel, Squeeze, squeeze};
+pub use model::{Body, GraspModel, Squeeze, squeeze, squeeze_bodies};
 pub use multi::{MultiObject, MultiObjectSettings};
 pub use single::{SingleObject, SingleObjectSettings};
 
@@ -51,4 +51,19 @@ pub trait GraspPlanner {
     /// # Errors
     /// Only for misuse, such as an id that is not in the scene.
     fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>>;
+
+    /// As [`GraspPlanner::plan`], also weighing the suggested jaw poses (for instance the grasp a push
+    /// planner arranged the objects for). Planners that cannot use hints ignore them.
+    ///
+    /// # Errors
+    /// As [`GraspPlanner::plan`].
+    fn plan_with_hints(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        hints: &[JawPose],
+    ) -> Result<Outcome<Option<Grasp>>> {
+        let _ = hints;
+        self.plan(scene, targets)
+    }
 }

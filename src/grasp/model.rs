@@ -70,6 +70,16 @@ impl Default for GraspModel {
 }
 
 impl GraspModel {
+    /// The model with friction high enough never to let anything slip or drop: it then only asks
+    /// whether the objects form one row between the jaws (the geometric "fits the jaws" test).
+    pub fn unlimited_friction() -> Self {
+        Self {
+            friction_jaw: 1e9,
+            friction_object: 1e9,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field.
     ///
     /// # Errors
@@ -138,17 +148,51 @@ struct Side {
     friction: f64,
 }
 
-/// Predicts what closing `jaws` does in `scene`.
+/// An object as the grasp model sees it: its outline on the table and its mass.
+#[derive(Clone, Copy, Debug)]
+pub struct Body<'a> {
+    /// Outline in the table frame.
+    pub outline: &'a ConvexPolygon,
+    /// Mass, kilograms.
+    pub mass: f64,
+}
+
+impl GraspModel {
+    /// The mass of an object: its own, or `density × area × height`.
+    pub fn mass_of(&self, object: &crate::scene::Object) -> f64 {
+        object
+            .mass
+            .unwrap_or(self.density * object.polygon.area() * object.height)
+    }
+}
+
+/// Predicts what closing `jaws` does in `scene`; object indices in the answer are scene indices.
 pub fn squeeze(scene: &Scene, jaws: &JawPose, model: &GraspModel) -> Squeeze {
-    let gripper = scene.gripper();
+    let bodies: Vec<Body<'_>> = (0..scene.len())
+        .map(|i| Body {
+            outline: scene.world_polygon(i),
+            mass: model.mass_of(&scene.objects()[i]),
+        })
+        .collect();
+    squeeze_bodies(&bodies, scene.gripper(), jaws, model)
+}
+
+/// Predicts what closing `jaws` does to `bodies` (which need not form a valid scene); object indices
+/// in the answer are positions in `bodies`.
+pub fn squeeze_bodies(
+    bodies: &[Body<'_>],
+    gripper: &crate::scene::Gripper,
+    jaws: &JawPose,
+    model: &GraspModel,
+) -> Squeeze {
     let axis = jaws.axis();
     let plates = jaws.plates(gripper);
     let between = jaws.between(gripper);
     let reach = jaws.opening / 2.0 + gripper.plate_length;
     let mut caught: Vec<usize> = Vec::new();
-    for index in 0..scene.len() {
-        let outline = scene.world_polygon(index);
-        let centroid = scene.centroid(index);
+    for (index, body) in bodies.iter().enumerate() {
+        let outline = body.outline;
+        let centroid = outline.centroid();
         if nalgebra::distance(&centroid, &jaws.center) > reach + outline.radius_about(&centroid) {
             continue;
         }
@@ -169,12 +213,12 @@ pub fn squeeze(scene: &Scene, jaws: &JawPose, model: &GraspModel) -> Squeeze {
         return Squeeze::Empty;
     }
     let low = |p: &ConvexPolygon| p.projection(&axis).0;
-    caught.sort_by(|&a, &b| low(scene.world_polygon(a)).total_cmp(&low(scene.world_polygon(b))));
+    caught.sort_by(|&a, &b| low(bodies[a].outline).total_cmp(&low(bodies[b].outline)));
 
     // Close: slide each object along −a onto the row.
-    let mut row: Vec<ConvexPolygon> = vec![scene.world_polygon(caught[0]).clone()];
+    let mut row: Vec<ConvexPolygon> = vec![bodies[caught[0]].outline.clone()];
     for (k, &index) in caught.iter().enumerate().skip(1) {
-        let moving = scene.world_polygon(index);
+        let moving = bodies[index].outline;
         let mut first: Option<(f64, usize)> = None;
         // Latest placed first, so a tie (touching two at once) goes to the row's current end.
         for (j, placed) in row.iter().enumerate().rev() {
@@ -266,15 +310,7 @@ pub fn squeeze(scene: &Scene, jaws: &JawPose, model: &GraspModel) -> Squeeze {
     }
 
     // Lifting against gravity.
-    let masses: Vec<f64> = caught
-        .iter()
-        .map(|&i| {
-            let object = &scene.objects()[i];
-            object
-                .mass
-                .unwrap_or(model.density * object.polygon.area() * object.height)
-        })
-        .collect();
+    let masses: Vec<f64> = caught.iter().map(|&i| bodies[i].mass).collect();
     let weight: f64 = masses.iter().sum::<f64>() * GRAVITY;
     let force = model.grip_force;
     if model.friction_jaw * force < weight / 2.0 {

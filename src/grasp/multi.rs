@@ -4,8 +4,10 @@
 //! `grid[0] × grid[1]` grid over the bounding box of the target objects, kept inside the convex hull of
 //! their outlines, plus every target's centroid and the midpoint of every pair of target centroids;
 //! closing axes at `angles` even steps over `[0, π)`, plus the direction between every pair of target
-//! centroids and every target's narrowest-grasp axis. The jaws open to `opening_fraction` of the
-//! stroke (fully by default, as in the paper). Each candidate is scored by [`GraspModel`]: the most
+//! centroids and every target's narrowest-grasp axis. For every axis, the centre that best fits the
+//! targets (the middle of their extent along the axis and of the band across it they all cover) is a
+//! candidate too, and so is any pose the caller suggests (the push planner's intended grasp). The jaws
+//! open to `opening_fraction` of the stroke (fully by default, as in the paper). Each candidate is scored by [`GraspModel`]: the most
 //! objects predicted held wins, ties go to the larger clearance between the open plates and the other
 //! objects, then to the narrower row. A candidate must hold at least one target.
 //!
@@ -123,6 +125,31 @@ impl MultiObject {
         centres
     }
 
+    /// Every jaw pose to evaluate: grid centres × angles, the centre aligned with the targets for
+    /// every angle, and the caller's hints.
+    fn candidates(&self, scene: &Scene, targets: &[usize], hints: &[JawPose]) -> Vec<JawPose> {
+        let opening = self.settings.opening_fraction * scene.gripper().stroke;
+        let angles = self.angles(scene, targets);
+        let mut poses: Vec<JawPose> = hints.to_vec();
+        for &angle in &angles {
+            poses.push(JawPose {
+                center: aligned_centre(scene, targets, angle),
+                angle,
+                opening,
+            });
+        }
+        for center in self.centres(scene, targets) {
+            for &angle in &angles {
+                poses.push(JawPose {
+                    center,
+                    angle,
+                    opening,
+                });
+            }
+        }
+        poses
+    }
+
     fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {
         let n = self.settings.angles;
         let mut angles: Vec<f64> = (0..n)
@@ -143,6 +170,34 @@ impl MultiObject {
         }
         angles
     }
+}
+
+/// The jaw centre that fits the targets best for closing along `angle`: the middle of their extent
+/// along the axis, and the middle of the band across it that all of them cover (or the mean of their
+/// middles when there is none).
+fn aligned_centre(scene: &Scene, targets: &[usize], angle: f64) -> Point2<f64> {
+    let axis = Vector2::new(angle.cos(), angle.sin());
+    let across = Vector2::new(-axis.y, axis.x);
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut band_low, mut band_high) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut middles = 0.0;
+    for &i in targets {
+        let outline = scene.world_polygon(i);
+        let (a, b) = outline.projection(&axis);
+        low = low.min(a);
+        high = high.max(b);
+        let (c, d) = outline.projection(&across);
+        band_low = band_low.max(c);
+        band_high = band_high.min(d);
+        middles += (c + d) / 2.0;
+    }
+    let along = (low + high) / 2.0;
+    let side = if band_low <= band_high {
+        (band_low + band_high) / 2.0
+    } else {
+        middles / targets.len() as f64
+    };
+    Point2::from(axis * along + across * side)
 }
 
 fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
@@ -166,21 +221,23 @@ impl GraspPlanner for MultiObject {
     }
 
     fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
+        self.plan_with_hints(scene, targets, &[])
+    }
+
+    fn plan_with_hints(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        hints: &[JawPose],
+    ) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
-        let opening = self.settings.opening_fraction * scene.gripper().stroke;
         let mut best: Option<(usize, Grasp)> = None;
         let mut evaluated = 0usize;
         let mut refusals: BTreeMap<&'static str, usize> = BTreeMap::new();
         if !indices.is_empty() {
-            let angles = self.angles(scene, &indices);
-            for center in self.centres(scene, &indices) {
-                for &angle in &angles {
-                    let jaws = JawPose {
-                        center,
-                        angle,
-                        opening,
-                    };
+            for jaws in self.candidates(scene, &indices, hints) {
+                {
                     evaluated += 1;
                     let outcome = squeeze(scene, &jaws, &self.settings.model);
                     let Squeeze::Held { objects, width } = outcome else {

@@ -2,14 +2,19 @@
 //!
 //! Each trip: observe the table, plan, execute, count the trip, until the table is clear:
 //! - `sog`: pick a graspable object at random (seeded), grasp it alone ([`SingleObject`]).
-//! - `mog`: cluster ([`Hierarchical`] by default, or [`Milp`] with `clusterer = "milp"`), pick a
-//!   cluster at random, grasp with [`MultiObject`] on the table as it is: multi-object grasps without
-//!   pushes.
+//! - `mog`: cluster ([`Hierarchical`]), pick a cluster at random, grasp with [`MultiObject`] on the
+//!   table as it is: multi-object grasps without pushes.
 //! - `push-mog`: cluster, pick a cluster at random, plan fork pushes toward its central object
 //!   ([`TowardCentral`]), predict the table after them, plan the multi-object grasp on the
 //!   prediction, then execute pushes and grasp (the paper's method).
+//! - `push-mog-opt`: the same loop with optimal clustering ([`Milp`]) and SOCP push targets
+//!   ([`Socp`]); `push-mog-milp` (MILP clustering, the paper's pushes) and `push-mog-socp` (the
+//!   paper's clustering, SOCP pushes) separate the two effects. The push planner's intended grasp is
+//!   offered to the grasp planner as a candidate.
 //!
-//! When the multi-object planner finds nothing for a cluster, a single-object grasp of one of its
+//! When the push planner finds no row for a whole cluster of three or more, its largest sub-clusters
+//! are tried and the object left out waits for a later trip. When the multi-object planner finds nothing
+//! for a cluster, a single-object grasp of one of its
 //! objects is tried. An attempt that yields no grasp is recorded with its reason and costs no trip; a
 //! grasp that carries nothing is a trip (a failed grasp). The run stops when the table is clear, when
 //! every object left is wider than the jaw gap, after `max_failed_attempts` fruitless attempts in a
@@ -25,10 +30,14 @@ use crate::cluster::{
 use crate::error::{Error, Result};
 use crate::exec::Executor;
 use crate::grasp::{
-    Grasp, GraspPlanner, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
+    Grasp, GraspPlanner, JawPose, MultiObject, MultiObjectSettings, SingleObject,
+    SingleObjectSettings,
 };
 use crate::plan::{Plan, RunStatus, Status, Trip};
-use crate::push::{Push, PushPlanner, SkippedPush, TowardCentral, TowardCentralSettings, predict};
+use crate::push::{
+    Push, PushPlan, PushPlanner, SkipReason, SkippedPush, Socp, SocpSettings, TowardCentral,
+    TowardCentralSettings, predict,
+};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
 
@@ -44,19 +53,54 @@ pub enum PolicyKind {
     /// Fork pushes toward each cluster's central object, then a multi-object grasp (the paper).
     #[serde(rename = "push-mog")]
     PushMog,
+    /// Optimal (MILP) clustering, the paper's pushes toward the central object.
+    #[serde(rename = "push-mog-milp")]
+    PushMogMilp,
+    /// The paper's hierarchical clustering, push targets from the SOCP.
+    #[serde(rename = "push-mog-socp")]
+    PushMogSocp,
+    /// Optimal clustering and SOCP push targets.
+    #[serde(rename = "push-mog-opt")]
+    PushMogOpt,
 }
 
 impl PolicyKind {
     /// Every policy, in table order.
-    pub const ALL: [PolicyKind; 3] = [PolicyKind::Sog, PolicyKind::Mog, PolicyKind::PushMog];
+    pub const ALL: [PolicyKind; 6] = [
+        PolicyKind::Sog,
+        PolicyKind::Mog,
+        PolicyKind::PushMog,
+        PolicyKind::PushMogMilp,
+        PolicyKind::PushMogSocp,
+        PolicyKind::PushMogOpt,
+    ];
 
-    /// The policy's name (`sog`, `mog`, `push-mog`).
+    /// The policy's name (`sog`, `mog`, `push-mog`, `push-mog-milp`, `push-mog-socp`,
+    /// `push-mog-opt`).
     pub fn name(self) -> &'static str {
         match self {
             Self::Sog => "sog",
             Self::Mog => "mog",
             Self::PushMog => "push-mog",
+            Self::PushMogMilp => "push-mog-milp",
+            Self::PushMogSocp => "push-mog-socp",
+            Self::PushMogOpt => "push-mog-opt",
         }
+    }
+
+    /// Whether the policy clusters with the MILP (rather than the paper's hierarchical clustering).
+    pub fn optimal_clustering(self) -> bool {
+        matches!(self, Self::PushMogMilp | Self::PushMogOpt)
+    }
+
+    /// Whether the policy places push targets with the SOCP (rather than toward the central object).
+    pub fn optimal_pushing(self) -> bool {
+        matches!(self, Self::PushMogSocp | Self::PushMogOpt)
+    }
+
+    /// Whether the policy pushes at all.
+    pub fn pushes(self) -> bool {
+        !matches!(self, Self::Sog | Self::Mog)
     }
 }
 
@@ -76,37 +120,27 @@ impl FromStr for PolicyKind {
                 Error::field(
                     "policy",
                     "name",
-                    format!("unknown policy `{text}`; choose sog, mog or push-mog"),
+                    format!(
+                        "unknown policy `{text}`; choose one of {}",
+                        Self::ALL.map(|k| k.name()).join(", ")
+                    ),
                 )
             })
     }
-}
-
-/// Which clusterer the clustered policies use.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "snake_case")]
-pub enum ClustererKind {
-    /// The paper's hierarchical clustering.
-    #[default]
-    Hierarchical,
-    /// The optimal set-partitioning MILP.
-    Milp,
 }
 
 /// Settings of every stage of a policy and of the loop.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PolicySettings {
-    /// Which clusterer `mog` and `push-mog` use. Default `hierarchical` (the paper's).
-    pub clusterer: ClustererKind,
-    /// Hierarchical clustering.
+    /// Hierarchical clustering (`mog`, `push-mog`, `push-mog-socp`).
     pub clustering: HierarchicalSettings,
-    /// The optimal clustering (used when `clusterer` is `milp`).
+    /// Optimal clustering (`push-mog-milp`, `push-mog-opt`).
     pub milp: MilpSettings,
-    /// Pushes toward the central object (`push-mog`).
+    /// Pushes toward the central object (`push-mog`, `push-mog-milp`).
     pub pushing: TowardCentralSettings,
+    /// SOCP push targets (`push-mog-socp`, `push-mog-opt`).
+    pub socp: SocpSettings,
     /// Single-object grasps (`sog`, and the fallback of the others).
     pub single: SingleObjectSettings,
     /// Multi-object grasps (`mog`, `push-mog`).
@@ -143,6 +177,7 @@ impl PolicySettings {
         self.clustering.validate()?;
         self.milp.validate()?;
         self.pushing.validate()?;
+        self.socp.validate()?;
         self.single.validate()?;
         self.multi.validate()?;
         if self.run.max_failed_attempts == 0 {
@@ -169,7 +204,7 @@ pub struct Policy {
     kind: PolicyKind,
     settings: PolicySettings,
     clusterer: AnyClusterer,
-    pusher: TowardCentral,
+    pusher: AnyPusher,
     single: SingleObject,
     multi: MultiObject,
 }
@@ -186,6 +221,22 @@ impl AnyClusterer {
         match self {
             Self::Hierarchical(c) => c,
             Self::Milp(c) => c,
+        }
+    }
+}
+
+/// One of the push planners, chosen by the policy.
+#[derive(Clone, Debug)]
+enum AnyPusher {
+    TowardCentral(TowardCentral),
+    Socp(Socp),
+}
+
+impl AnyPusher {
+    fn get(&self) -> &dyn PushPlanner {
+        match self {
+            Self::TowardCentral(p) => p,
+            Self::Socp(p) => p,
         }
     }
 }
@@ -208,13 +259,16 @@ impl Policy {
         settings.validate()?;
         Ok(Self {
             kind,
-            clusterer: match settings.clusterer {
-                ClustererKind::Hierarchical => {
-                    AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
-                }
-                ClustererKind::Milp => AnyClusterer::Milp(Milp::new(settings.milp.clone())?),
+            clusterer: if kind.optimal_clustering() {
+                AnyClusterer::Milp(Milp::new(settings.milp.clone())?)
+            } else {
+                AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
             },
-            pusher: TowardCentral::new(settings.pushing.clone())?,
+            pusher: if kind.optimal_pushing() {
+                AnyPusher::Socp(Socp::new(settings.socp.clone())?)
+            } else {
+                AnyPusher::TowardCentral(TowardCentral::new(settings.pushing.clone())?)
+            },
             single: SingleObject::new(settings.single.clone())?,
             multi: MultiObject::new(settings.multi.clone())?,
             settings,
@@ -268,8 +322,7 @@ impl Policy {
             }
             let draft = match self.kind {
                 PolicyKind::Sog => self.draft_single(&observed, &mut rng)?,
-                PolicyKind::Mog => self.draft_clustered(&observed, &mut rng, false)?,
-                PolicyKind::PushMog => self.draft_clustered(&observed, &mut rng, true)?,
+                kind => self.draft_clustered(&observed, &mut rng, kind.pushes())?,
             };
             let draft = match draft {
                 Ok(draft) => draft,
@@ -347,14 +400,15 @@ impl Policy {
             .collect();
         let chosen = candidates[rng.index(candidates.len())];
         let members = clustering.clusters[chosen].clone();
-        let (pushes, skipped, predicted) = if with_pushes && members.len() > 1 {
-            let plan = self.pusher.plan(observed, &members)?.value;
+        let (pushes, skipped, predicted, hints) = if with_pushes && members.len() > 1 {
+            let plan = self.plan_pushes(observed, &members)?;
             let predicted = predict(observed, &plan.pushes)?;
-            (plan.pushes, plan.skipped, predicted)
+            let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
+            (plan.pushes, plan.skipped, predicted, hints)
         } else {
-            (Vec::new(), Vec::new(), observed.clone())
+            (Vec::new(), Vec::new(), observed.clone(), Vec::new())
         };
-        let mut outcome = self.multi.plan(&predicted, &members)?;
+        let mut outcome = self.multi.plan_with_hints(&predicted, &members, &hints)?;
         if outcome.value.is_none() {
             let fallback = self.single.plan(&predicted, &members)?;
             if fallback.value.is_some() {
@@ -374,6 +428,56 @@ impl Policy {
                 members.iter().map(|id| id.0).collect::<Vec<_>>(),
                 failure_reason(&outcome.status)
             )),
+        })
+    }
+}
+
+impl Policy {
+    /// Pushes for a cluster. When no row of the whole cluster can be planned (the SOCP proves it
+    /// infeasible, or no push sequence exists), or the planned row is not predicted held while a
+    /// smaller one is, the largest sub-clusters are tried, cheapest first, and the object left out is
+    /// reported as skipped to wait for a later trip.
+    fn plan_pushes(&self, observed: &Scene, members: &[ObjectId]) -> Result<PushPlan> {
+        let pusher = self.pusher.get();
+        let usable =
+            |status: &Status| !matches!(status, Status::Infeasible | Status::Failed { .. });
+        // Planners that do not judge their rows (the paper's) count as held.
+        let held = |stats: &crate::plan::Stats| stats.counter("row_held").is_none_or(|h| h > 0.5);
+        let whole = pusher.plan(observed, members)?;
+        if members.len() < 3 || (usable(&whole.status) && held(&whole.stats)) {
+            return Ok(whole.value);
+        }
+        let mut best: Option<(bool, f64, PushPlan)> = None;
+        for left_out in members {
+            let part: Vec<ObjectId> = members
+                .iter()
+                .copied()
+                .filter(|id| id != left_out)
+                .collect();
+            let sub = pusher.plan(observed, &part)?;
+            if !usable(&sub.status) {
+                continue;
+            }
+            let (is_held, cost) = (
+                held(&sub.stats),
+                sub.stats.objective.unwrap_or(f64::INFINITY),
+            );
+            let better = best
+                .as_ref()
+                .is_none_or(|(h, c, _)| (is_held && !*h) || (is_held == *h && cost < *c));
+            if better {
+                let mut plan = sub.value;
+                plan.skipped.push(SkippedPush {
+                    object: *left_out,
+                    reason: SkipReason::NoRow,
+                });
+                best = Some((is_held, cost, plan));
+            }
+        }
+        Ok(match best {
+            Some((true, _, plan)) => plan,
+            Some((false, _, plan)) if !usable(&whole.status) => plan,
+            _ => whole.value,
         })
     }
 }

@@ -121,8 +121,12 @@ pub fn plan_fork(
     let end = contact + push * distance;
     let travel = settings.approach_clearance + distance;
     let fingers = finger_footprints(gripper, opening, &approach, push);
+    let swept: Vec<_> = fingers
+        .iter()
+        .map(|f| f.swept_box(&(push * travel)))
+        .collect();
     for (index, other) in world.iter().enumerate() {
-        if index == pushed {
+        if index == pushed || !swept.iter().any(|b| other.box_meets(*b)) {
             continue;
         }
         if fingers.iter().any(|f| overlap(f, other, 0.0)) {

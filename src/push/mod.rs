@@ -4,12 +4,16 @@
 //! line perpendicular to the push, lowers the fingers behind the object and moves them in a straight
 //! line; a vertex can sit between the fingers and an edge rests against both, so the object follows
 //! the fingers without turning much. [`fork`] holds that geometry and its collision checks;
-//! [`TowardCentral`] is the paper's Algorithm 3; [`predict`] moves objects to their targets, as the
-//! paper does to plan the grasp before executing the pushes.
+//! [`TowardCentral`] is the paper's Algorithm 3; [`Socp`] places targets by a second-order cone
+//! program of least total push distance (`formulations/pushing.md`); [`predict`] moves objects to their
+//! targets, as the paper does to plan the grasp before executing the pushes.
 
 mod central;
+mod compare;
 pub mod fork;
 mod predict;
+mod row;
+mod socp;
 
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
@@ -19,8 +23,10 @@ use crate::plan::Outcome;
 use crate::scene::{ObjectId, Pose, Scene};
 
 pub use central::{TowardCentral, TowardCentralSettings};
+pub use compare::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
 pub use fork::{ForkPush, ForkSettings};
 pub use predict::predict;
+pub use socp::{Socp, SocpSettings};
 
 /// One planned fork push: an object translated along a straight line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -74,6 +80,8 @@ pub enum SkipReason {
     },
     /// The fingers would not meet the object (it fits between them).
     NoFingerContact,
+    /// No row of the cluster fits the jaws on any axis tried (the push program is infeasible).
+    NoRow,
 }
 
 impl std::fmt::Display for SkipReason {
@@ -86,6 +94,7 @@ impl std::fmt::Display for SkipReason {
             }
             Self::FingersHit { object } => write!(f, "fingers would hit object {object}"),
             Self::NoFingerContact => write!(f, "the object fits between the fingers"),
+            Self::NoRow => write!(f, "no row of the cluster fits the jaws"),
         }
     }
 }
@@ -106,6 +115,8 @@ pub struct PushPlan {
     pub pushes: Vec<Push>,
     /// Objects not pushed, with reasons (never dropped silently).
     pub skipped: Vec<SkippedPush>,
+    /// The grasp the pushes arrange the objects for, when the planner knows it.
+    pub intended_grasp: Option<crate::grasp::JawPose>,
 }
 
 /// A way to plan the pushes that bring one cluster together.

@@ -17,7 +17,10 @@ use pushmog::scene::{
     GeneratorSettings, ObjectSet, Scene, Workspace, builtin_object_set, generate_scene,
 };
 
-use super::{ClusterArgs, CompareArgs, GenerateArgs, PlanArgs, RenderArgs, RunArgs, SchemaFormat};
+use super::{
+    ClusterArgs, CompareArgs, ComparePushingArgs, GenerateArgs, PlanArgs, RenderArgs, RunArgs,
+    SchemaFormat,
+};
 
 /// Reads a file, or standard input for `-`.
 fn read_input(path: &Path) -> Result<(String, String)> {
@@ -313,6 +316,27 @@ pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
             eprintln!("seed {}: {v}", r.seed);
         }
     }
+    Ok(())
+}
+
+pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
+    let settings: PolicySettings = settings_or_default(args.settings.as_deref())?;
+    eprintln!(
+        "comparing pushes on {} scenes (seeds {}..{})",
+        args.scenes,
+        args.seed,
+        args.seed + args.scenes as u64
+    );
+    let rows = pushmog::push::compare_pushing(
+        &GeneratorSettings::default(),
+        &builtin_object_set(),
+        &settings.clustering,
+        &settings.pushing,
+        &settings.socp,
+        args.scenes,
+        args.seed,
+    )?;
+    print!("{}", pushmog::push::push_comparison_markdown(&rows));
     Ok(())
 }
 

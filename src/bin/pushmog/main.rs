@@ -31,6 +31,8 @@ enum Command {
     Cluster(ClusterArgs),
     /// Compare hierarchical against optimal (MILP) clustering over seeded scenes; prints a Markdown table.
     CompareClustering(CompareArgs),
+    /// Compare the paper's pushes against SOCP push targets on the same clusters; prints a Markdown table.
+    ComparePushing(ComparePushingArgs),
     /// Check a plan file with the independent verifier.
     Verify {
         /// Plan file written by `pushmog plan`.
@@ -171,6 +173,19 @@ struct CompareArgs {
 }
 
 #[derive(Args, Debug)]
+struct ComparePushingArgs {
+    /// Number of scenes.
+    #[arg(long, default_value_t = 200)]
+    scenes: usize,
+    /// Seed of the first scene (the others follow).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Policy settings as JSON, for the clustering, both push planners and the grasp model.
+    #[arg(long)]
+    settings: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
 struct RenderArgs {
     /// Scene or plan file (`-` for standard input).
     scene: PathBuf,
@@ -208,6 +223,7 @@ fn main() -> ExitCode {
         Command::Verify { plan } => commands::verify(&plan),
         Command::CompareClustering(args) => commands::compare_clustering(&args),
         Command::Cluster(args) => commands::cluster(&args),
+        Command::ComparePushing(args) => commands::compare_pushing(&args),
         Command::Render(args) => commands::render(&args),
         Command::Schema { format } => commands::schema(format),
         Command::Library { json, output } => commands::library(json, output.as_deref()),

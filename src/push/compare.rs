@@ -1,0 +1,207 @@
+//! The paper's pushes against SOCP push targets on the same clusters: the table `pushmog
+//! compare-pushing` prints.
+//!
+//! For every seeded scene, the hierarchical clustering is computed once; each cluster of two or more
+//! objects is planned by both push planners. Reported per planner: total push distance and number of
+//! pushes per scene; the share of clusters whose predicted arrangement *fits the jaws* (some jaw pose
+//! catches every member in one row, judged with unlimited friction, [`GraspModel::unlimited_friction`])
+//! and the share the grasp model predicts *held* with its friction; and failures (clusters with a push
+//! that could not be planned, or no row at all).
+
+use std::fmt::Write as _;
+
+use super::{
+    PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, TowardCentralSettings, predict,
+};
+use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings};
+use crate::error::Result;
+use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
+use crate::plan::Status;
+use crate::scene::{GeneratorSettings, ObjectId, ObjectSet, Scene, generate_scene};
+
+/// One planner's figures on one scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PushFigures {
+    /// Total push distance, metres.
+    pub distance: f64,
+    /// Pushes planned.
+    pub pushes: usize,
+    /// Clusters of two or more objects.
+    pub clusters: usize,
+    /// Clusters whose predicted arrangement fits the jaws.
+    pub fits: usize,
+    /// Clusters the grasp model predicts held whole.
+    pub held: usize,
+    /// Clusters with a push that could not be planned, or with no row.
+    pub failures: usize,
+    /// Planning time, seconds.
+    pub seconds: f64,
+}
+
+/// Both planners on one scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushComparison {
+    /// The scene's seed.
+    pub seed: u64,
+    /// The paper's pushes toward the central object.
+    pub central: PushFigures,
+    /// SOCP push targets.
+    pub socp: PushFigures,
+}
+
+/// Runs the comparison on `scenes` seeded scenes.
+///
+/// # Errors
+/// Invalid settings or a scene that cannot be generated.
+pub fn compare_pushing(
+    generator: &GeneratorSettings,
+    set: &ObjectSet,
+    clustering: &HierarchicalSettings,
+    central: &TowardCentralSettings,
+    socp: &SocpSettings,
+    scenes: usize,
+    first_seed: u64,
+) -> Result<Vec<PushComparison>> {
+    let clusterer = Hierarchical::new(clustering.clone())?;
+    let central = TowardCentral::new(central.clone())?;
+    let socp = Socp::new(socp.clone())?;
+    let fits = MultiObject::new(MultiObjectSettings {
+        model: GraspModel::unlimited_friction(),
+        ..MultiObjectSettings::default()
+    })?;
+    let holds = MultiObject::new(MultiObjectSettings {
+        model: socp.settings().model.clone(),
+        ..MultiObjectSettings::default()
+    })?;
+    let mut rows = Vec::with_capacity(scenes);
+    for seed in first_seed..first_seed + scenes as u64 {
+        let scene = generate_scene(generator, set, seed)?;
+        let clusters = clusterer.cluster(&scene)?.value.clusters;
+        let mut figures = [PushFigures::default(), PushFigures::default()];
+        for cluster in clusters.iter().filter(|c| c.len() > 1) {
+            for (planner, figure) in [&central as &dyn PushPlanner, &socp]
+                .into_iter()
+                .zip(figures.iter_mut())
+            {
+                let outcome = planner.plan(&scene, cluster)?;
+                figure.clusters += 1;
+                figure.seconds += outcome.stats.seconds;
+                let plan = outcome.value;
+                let failed = matches!(outcome.status, Status::Infeasible | Status::Failed { .. })
+                    || plan
+                        .skipped
+                        .iter()
+                        .any(|s| s.reason != SkipReason::AlreadyInPlace);
+                if failed {
+                    figure.failures += 1;
+                }
+                figure.pushes += plan.pushes.len();
+                figure.distance += plan.pushes.iter().map(|p| p.distance).sum::<f64>();
+                let after = predict(&scene, &plan.pushes)?;
+                let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
+                if holds_all(&fits, &after, cluster, &hints)? {
+                    figure.fits += 1;
+                }
+                if holds_all(&holds, &after, cluster, &hints)? {
+                    figure.held += 1;
+                }
+            }
+        }
+        let [central, socp] = figures;
+        rows.push(PushComparison {
+            seed,
+            central,
+            socp,
+        });
+    }
+    Ok(rows)
+}
+
+fn holds_all(
+    planner: &MultiObject,
+    scene: &Scene,
+    cluster: &[ObjectId],
+    hints: &[JawPose],
+) -> Result<bool> {
+    let grasp = planner.plan_with_hints(scene, cluster, hints)?.value;
+    Ok(grasp.is_some_and(|g| cluster.iter().all(|id| g.objects.contains(id))))
+}
+
+fn quantile(values: &[f64], q: f64) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn mean_std(values: &[f64]) -> (f64, f64) {
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
+}
+
+/// The Markdown report of a comparison.
+pub fn push_comparison_markdown(rows: &[PushComparison]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "| pushes | push distance per scene (m) | median | p90 | pushes per scene | row fits the jaws | held by the grasp model | failures | planning time per cluster (ms) |"
+    );
+    let _ = writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, pick) in [
+        (
+            "toward central (paper)",
+            (|r: &PushComparison| &r.central) as fn(&PushComparison) -> &PushFigures,
+        ),
+        ("socp", |r: &PushComparison| &r.socp),
+    ] {
+        let distances: Vec<f64> = rows.iter().map(|r| pick(r).distance).collect();
+        let (mean, std) = mean_std(&distances);
+        let clusters: usize = rows.iter().map(|r| pick(r).clusters).sum();
+        let fits: usize = rows.iter().map(|r| pick(r).fits).sum();
+        let held: usize = rows.iter().map(|r| pick(r).held).sum();
+        let failures: usize = rows.iter().map(|r| pick(r).failures).sum();
+        let pushes: f64 =
+            rows.iter().map(|r| pick(r).pushes as f64).sum::<f64>() / rows.len().max(1) as f64;
+        let seconds: f64 = rows.iter().map(|r| pick(r).seconds).sum();
+        let share = |k: usize| 100.0 * k as f64 / clusters.max(1) as f64;
+        let _ = writeln!(
+            out,
+            "| {name} | {mean:.3} ± {std:.3} | {:.3} | {:.3} | {pushes:.1} | {fits}/{clusters} ({:.1} %) | {held}/{clusters} ({:.1} %) | {failures} | {:.3} |",
+            quantile(&distances, 0.5),
+            quantile(&distances, 0.9),
+            share(fits),
+            share(held),
+            1e3 * seconds / clusters.max(1) as f64,
+        );
+    }
+    let central: f64 = rows.iter().map(|r| r.central.distance).sum();
+    let socp: f64 = rows.iter().map(|r| r.socp.distance).sum();
+    let ratios: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.central.distance > 0.0)
+        .map(|r| r.socp.distance / r.central.distance)
+        .collect();
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "- mean push distance, SOCP against the paper: {:.3} ({:+.1} %)",
+        socp / central.max(1e-12),
+        100.0 * (socp / central.max(1e-12) - 1.0)
+    );
+    let _ = writeln!(
+        out,
+        "- per-scene ratio SOCP / paper: min {:.3}, p10 {:.3}, median {:.3}, p90 {:.3}, max {:.3}; SOCP shorter on {}/{} scenes",
+        quantile(&ratios, 0.0),
+        quantile(&ratios, 0.1),
+        quantile(&ratios, 0.5),
+        quantile(&ratios, 0.9),
+        quantile(&ratios, 1.0),
+        ratios.iter().filter(|&&r| r < 1.0).count(),
+        ratios.len()
+    );
+    out
+}

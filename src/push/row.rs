@@ -1,0 +1,301 @@
+//! The second-order cone program behind [`Socp`](super::Socp): least total push distance that lines
+//! one cluster up between the jaws, for a fixed closing axis `u` and a fixed order along it
+//! (`formulations/pushing.md`).
+//!
+//! Variables: target centroids `p_i` (2 each), cone epigraphs `t_i`, and the row's centre line `c`
+//! across the axis. With `v ⊥ u`, each object's outline taken about its centroid at its current yaw,
+//! `h_i(d)` its support in direction `d`:
+//!
+//! ```text
+//! minimise    Σ_i t_i
+//! subject to  ‖p_i − p_i⁰‖ ≤ t_i                                         (one cone per object)
+//!             u·p_(j+1) − u·p_(j) ≥ h_(j)(u) + h_(j+1)(−u) + gap         (consecutive, no overlap)
+//!             u·p_(k) + h_(k)(u) − u·p_(1) + h_(1)(−u) ≤ g − margin      (the row fits the jaws)
+//!             v·p_i − h_i(−v) ≤ c − s,   v·p_i + h_i(v) ≥ c + s           (each straddles the plates' centre line)
+//!             n_iq·p_i ≥ β_iq                                            (clear of outside object q)
+//!             workspace bounds on p_i,  p_i = p_i⁰ for objects held fixed
+//! ```
+//!
+//! It is solved by clarabel (an interior-point method for conic programs); its status is kept.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use nalgebra::{Point2, Vector2};
+
+use crate::geometry::ConvexPolygon;
+use crate::scene::Workspace;
+
+/// How far inside the workspace targets are kept, metres.
+const INSIDE: f64 = 1e-6;
+
+/// A fixed half-plane `normal·p_i ≥ offset` keeping member `member`'s target clear of an outside object.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Fence {
+    /// Position of the member in the cluster.
+    pub member: usize,
+    /// Unit normal pointing away from the outside object.
+    pub normal: Vector2<f64>,
+    /// Smallest allowed `normal·p_i`, metres.
+    pub offset: f64,
+}
+
+/// Everything about one cluster that does not depend on the axis or the order.
+pub(super) struct RowProblem<'a> {
+    /// Current centroids.
+    pub starts: &'a [Point2<f64>],
+    /// Outlines about their own centroids, at their current yaw.
+    pub outlines: &'a [ConvexPolygon],
+    /// Half-planes clear of the objects outside the cluster.
+    pub fences: &'a [Fence],
+    /// The workspace.
+    pub workspace: &'a Workspace,
+    /// Usable jaw gap minus the margin, metres.
+    pub row_limit: f64,
+    /// Gap kept between neighbours in the row, metres.
+    pub gap: f64,
+    /// How far every object reaches past the plates' centre line on both sides, metres.
+    pub straddle: f64,
+}
+
+/// One solve's answer.
+#[derive(Clone, Debug)]
+pub(super) struct RowSolution {
+    /// Target centroids (empty unless solved).
+    pub targets: Vec<Point2<f64>>,
+    /// Position of the plates' centre line across the axis (`c`), metres.
+    pub centre_line: f64,
+    /// clarabel's status.
+    pub status: SolverStatus,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Seconds spent in clarabel (set-up and solve).
+    pub seconds: f64,
+}
+
+impl RowSolution {
+    /// Whether clarabel returned a usable point.
+    pub fn solved(&self) -> bool {
+        matches!(
+            self.status,
+            SolverStatus::Solved | SolverStatus::AlmostSolved
+        )
+    }
+}
+
+/// A lower bound on the program's optimum for `axis` (any order), or `None` when no row along `axis`
+/// can exist: the objects' widths along it (plus the gaps) exceed the jaws, or an object is too narrow
+/// across it to straddle the plates' centre line.
+///
+/// The bound: the row's extent along `u` must shrink to the limit, so the end objects move at least
+/// `σ = max(0, span − limit)` along `u` in all; across, each object must bring its centroid into a
+/// window `[c + lo_i, c + hi_i]` around the common centre line `c`, so the objects move at least
+/// `τ = min_c Σ_i dist(v·p_i⁰ − c, [lo_i, hi_i])` across. Since `Σ‖Δ_i‖ ≥ ‖(Σ|Δu_i|, Σ|Δv_i|)‖`, the
+/// total push is at least `√(σ² + τ²)`. Used to skip axes that cannot beat the best found.
+pub(super) fn lower_bound(problem: &RowProblem<'_>, axis: &Vector2<f64>) -> Option<f64> {
+    let k = problem.starts.len();
+    let across = Vector2::new(-axis.y, axis.x);
+    let widths: f64 = problem
+        .outlines
+        .iter()
+        .map(|o| o.support(axis) + o.support(&-axis))
+        .sum();
+    if widths + problem.gap * (k.saturating_sub(1)) as f64 > problem.row_limit {
+        return None;
+    }
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut windows = Vec::with_capacity(k);
+    for (start, outline) in problem.starts.iter().zip(problem.outlines) {
+        let at = start.coords.dot(axis);
+        low = low.min(at - outline.support(&-axis));
+        high = high.max(at + outline.support(axis));
+        let lo = problem.straddle - outline.support(&across);
+        let hi = outline.support(&-across) - problem.straddle;
+        if lo > hi {
+            return None;
+        }
+        windows.push((start.coords.dot(&across), lo, hi));
+    }
+    let shrink = (high - low - problem.row_limit).max(0.0);
+    // The cost of a centre line is convex and piecewise linear; its minimum is at a breakpoint.
+    let cost = |c: f64| -> f64 {
+        windows
+            .iter()
+            .map(|&(v, lo, hi)| {
+                let offset = v - c;
+                (lo - offset).max(offset - hi).max(0.0)
+            })
+            .sum()
+    };
+    let across_bound = windows
+        .iter()
+        .flat_map(|&(v, lo, hi)| [v - lo, v - hi])
+        .map(cost)
+        .fold(f64::INFINITY, f64::min);
+    Some(shrink.hypot(across_bound))
+}
+
+/// Rows of `A x + s = b`, grouped by cone.
+struct Rows {
+    entries: Vec<(usize, usize, f64)>,
+    rhs: Vec<f64>,
+}
+
+impl Rows {
+    fn new() -> Self {
+        Self {
+            entries: Vec::new(),
+            rhs: Vec::new(),
+        }
+    }
+
+    /// Adds the row `Σ coefficient·x ≤ bound` (or `= bound`, or the next cone entry `s = bound − a·x`).
+    fn push(&mut self, terms: &[(usize, f64)], bound: f64) {
+        let row = self.rhs.len();
+        for &(column, coefficient) in terms {
+            if coefficient != 0.0 {
+                self.entries.push((row, column, coefficient));
+            }
+        }
+        self.rhs.push(bound);
+    }
+
+    fn len(&self) -> usize {
+        self.rhs.len()
+    }
+}
+
+/// Solves the row program for closing axis `axis` (unit), member `order` along it, with the members in
+/// `fixed` held where they are.
+pub(super) fn solve_row(
+    problem: &RowProblem<'_>,
+    axis: &Vector2<f64>,
+    order: &[usize],
+    fixed: &[bool],
+) -> RowSolution {
+    let k = problem.starts.len();
+    let across = Vector2::new(-axis.y, axis.x);
+    // Columns: p_i = (2i, 2i+1), t_i = 2k + i, c = 3k.
+    let (px, py, t, c) = (
+        |i: usize| 2 * i,
+        |i: usize| 2 * i + 1,
+        |i: usize| 2 * k + i,
+        3 * k,
+    );
+    let columns = 3 * k + 1;
+    let support = |i: usize, d: &Vector2<f64>| problem.outlines[i].support(d);
+    let along =
+        |i: usize, d: &Vector2<f64>, scale: f64| [(px(i), scale * d.x), (py(i), scale * d.y)];
+
+    // Equalities first (zero cone), then inequalities (non-negative cone), then one cone per object.
+    let mut zero = Rows::new();
+    for i in (0..k).filter(|&i| fixed[i]) {
+        zero.push(&[(px(i), 1.0)], problem.starts[i].x);
+        zero.push(&[(py(i), 1.0)], problem.starts[i].y);
+    }
+    let mut inequalities = Rows::new();
+    for pair in order.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let needed = support(a, axis) + support(b, &-axis) + problem.gap;
+        let mut terms = along(a, axis, 1.0).to_vec();
+        terms.extend(along(b, axis, -1.0));
+        inequalities.push(&terms, -needed);
+    }
+    if let (Some(&first), Some(&last)) = (order.first(), order.last()) {
+        let limit = problem.row_limit - support(last, axis) - support(first, &-axis);
+        let mut terms = along(last, axis, 1.0).to_vec();
+        terms.extend(along(first, axis, -1.0));
+        inequalities.push(&terms, limit);
+    }
+    for i in 0..k {
+        // v·p_i − h_i(−v) ≤ c − s   and   −v·p_i − h_i(v) ≤ −c − s.
+        let mut below = along(i, &across, 1.0).to_vec();
+        below.push((c, -1.0));
+        inequalities.push(&below, support(i, &-across) - problem.straddle);
+        let mut above = along(i, &across, -1.0).to_vec();
+        above.push((c, 1.0));
+        inequalities.push(&above, support(i, &across) - problem.straddle);
+        // Workspace: min + h(−e) ≤ p ≤ max − h(e) on both axes, 1 µm inside so that the solver's
+        // tolerance never puts a vertex outside.
+        for (dimension, unit) in [(0, Vector2::x()), (1, Vector2::y())] {
+            let column = if dimension == 0 { px(i) } else { py(i) };
+            inequalities.push(
+                &[(column, 1.0)],
+                problem.workspace.max[dimension] - support(i, &unit) - INSIDE,
+            );
+            inequalities.push(
+                &[(column, -1.0)],
+                -(problem.workspace.min[dimension] + support(i, &-unit) + INSIDE),
+            );
+        }
+    }
+    for fence in problem.fences {
+        // normal·p ≥ offset  ⇔  −normal·p ≤ −offset.
+        inequalities.push(&along(fence.member, &fence.normal, -1.0), -fence.offset);
+    }
+    let mut cones_rows = Rows::new();
+    for i in 0..k {
+        cones_rows.push(&[(t(i), -1.0)], 0.0);
+        cones_rows.push(&[(px(i), -1.0)], -problem.starts[i].x);
+        cones_rows.push(&[(py(i), -1.0)], -problem.starts[i].y);
+    }
+
+    let (mut rows, mut cols, mut values, mut rhs) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut offset = 0;
+    for block in [&zero, &inequalities, &cones_rows] {
+        for &(r, col, v) in &block.entries {
+            rows.push(offset + r);
+            cols.push(col);
+            values.push(v);
+        }
+        rhs.extend_from_slice(&block.rhs);
+        offset += block.len();
+    }
+    let a = CscMatrix::new_from_triplets(offset, columns, rows, cols, values);
+    let p = CscMatrix::zeros((columns, columns));
+    let mut q = vec![0.0; columns];
+    for i in 0..k {
+        q[t(i)] = 1.0;
+    }
+    let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
+    if zero.len() > 0 {
+        cones.push(SupportedConeT::ZeroConeT(zero.len()));
+    }
+    cones.push(SupportedConeT::NonnegativeConeT(inequalities.len()));
+    for _ in 0..k {
+        cones.push(SupportedConeT::SecondOrderConeT(3));
+    }
+    let settings = DefaultSettings {
+        verbose: false,
+        max_threads: 1,
+        ..DefaultSettings::default()
+    };
+    let started = std::time::Instant::now();
+    let Ok(mut solver) = DefaultSolver::new(&p, &q, &a, &rhs, &cones, settings) else {
+        return RowSolution {
+            targets: Vec::new(),
+            centre_line: 0.0,
+            status: SolverStatus::NumericalError,
+            iterations: 0,
+            seconds: 0.0,
+        };
+    };
+    solver.solve();
+    let solution = &solver.solution;
+    let status = solution.status;
+    let solved = matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let targets: Vec<Point2<f64>> = if solved {
+        (0..k)
+            .map(|i| Point2::new(solution.x[px(i)], solution.x[py(i)]))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    RowSolution {
+        targets,
+        centre_line: solution.x[c],
+        status,
+        iterations: solution.iterations,
+        seconds: started.elapsed().as_secs_f64(),
+    }
+}

@@ -1,0 +1,697 @@
+//! Push targets from a second-order cone program: the least total push distance that lines a cluster
+//! up between the jaws (`formulations/pushing.md`).
+//!
+//! For a fixed closing axis and order the problem is convex ([`row`](super::row)). The planner's
+//! axes are `axes` even directions over `[0, π)`, every member's edge normals (along them objects meet
+//! the plates and each other flat), the directions joining the members' centroids and their principal
+//! axis; axes along which the members' widths cannot fit the jaws are dropped, and the rest carry a
+//! lower bound on the push distance ([`lower_bound`]). A solved row becomes pushes as follows:
+//! 1. members that would move less than `min_push` are held where they are and the program is solved
+//!    again with them fixed ("objects already in place are not pushed");
+//! 2. the pushes are sequenced: every order of the pushes is tried until one has every object's straight
+//!    sweep and the fingers' footprint clear of every other object as it stands at that moment
+//!    (exact separating-axis sweeps, `geometry::cast_distance`, and [`plan_fork`]);
+//! 3. the grasp model judges the row at its intended grasp (held, or a member slips out).
+//!
+//! The search, with `prefer_held_rows` (default), looks for the cheapest held row: every axis is
+//! visited, first those along which a perfect row of the members is held by the grasp model (a cheap
+//! test before any program), each group in order of its bound, skipping axes whose bound cannot beat
+//! the cheapest held row found. Without a held row (or without the preference), the cheapest row that
+//! can be pushed into place is taken, visiting axes by bound until none can beat it. For three or more
+//! members, the other orders along the chosen axis are tried too (up to `max_orders`). The answer is
+//! the cheapest held row if there is one, else the cheapest row; `row_held` in the statistics says
+//! which. No row on any axis: [`Status::Infeasible`]; rows but no push sequence: a failed status.
+//!
+//! Objects outside the cluster are kept clear by fixed half-planes: the line of largest separation
+//! between the outside object and the hull of the cluster (or, if the object reaches into that hull,
+//! between it and each member), with the current gap (at most `clearance`) kept. A member's whole
+//! straight sweep then stays on its side.
+
+use std::cell::Cell;
+use std::time::Instant;
+
+use clarabel::solver::SolverStatus;
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::fork::{ForkSettings, plan_fork};
+use super::row::{Fence, RowProblem, RowSolution, lower_bound, solve_row};
+use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
+use crate::grasp::{Body, GraspModel, JawPose, Squeeze, squeeze, squeeze_bodies};
+use crate::plan::{Outcome, Stats, Status};
+use crate::scene::{ObjectId, Pose, Scene};
+
+/// Settings of [`Socp`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct SocpSettings {
+    /// Evenly spaced closing axes tried over `[0, π)`. Default 12 (15° apart).
+    pub axes: usize,
+    /// Orders tried along the chosen axis, the natural one included, for clusters of three or more.
+    /// Default 6 (every order of three objects).
+    pub max_orders: usize,
+
+    /// Room left between the row and the usable jaw gap, metres. Default 0.005.
+    pub margin: f64,
+    /// Gap kept between neighbours in the row, metres. Default 0.001.
+    pub gap: f64,
+    /// How far every object must reach past the plates' centre line on each side, metres. Default
+    /// 0.003: every object is caught by the plates and touches its neighbours when squeezed.
+    pub straddle: f64,
+    /// Gap kept to objects outside the cluster (or the current gap, if smaller), metres. Default 0.002.
+    pub clearance: f64,
+    /// Outside objects further than this from every member are ignored, metres. Default 0.15.
+    pub neighbourhood: f64,
+    /// Moves shorter than this are not made, metres. Default 0.003.
+    pub min_push: f64,
+    /// Among rows that can be pushed into place, take the cheapest one the grasp model predicts held
+    /// (the cheapest of all when none is). Default true.
+    pub prefer_held_rows: bool,
+
+    /// The grasp model that judges rows.
+    pub model: GraspModel,
+    /// Fork-push geometry.
+    pub fork: ForkSettings,
+}
+
+impl Default for SocpSettings {
+    fn default() -> Self {
+        Self {
+            axes: 12,
+            max_orders: 6,
+            margin: 0.005,
+            gap: 0.001,
+            straddle: 0.003,
+            clearance: 0.002,
+            neighbourhood: 0.15,
+            min_push: 0.003,
+            prefer_held_rows: true,
+            model: GraspModel::default(),
+            fork: ForkSettings::default(),
+        }
+    }
+}
+
+impl SocpSettings {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        if self.axes == 0 {
+            return Err(Error::field("socp", "axes", "must be at least 1"));
+        }
+        for (field, value) in [
+            ("margin", self.margin),
+            ("gap", self.gap),
+            ("straddle", self.straddle),
+            ("clearance", self.clearance),
+            ("neighbourhood", self.neighbourhood),
+            ("min_push", self.min_push),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::field(
+                    "socp",
+                    field,
+                    format!("must be a non-negative number of metres, got {value}"),
+                ));
+            }
+        }
+        self.model.validate()?;
+        self.fork.validate()
+    }
+}
+
+/// Push targets from the row SOCP.
+#[derive(Clone, Debug, Default)]
+pub struct Socp {
+    settings: SocpSettings,
+}
+
+/// A solved row turned into pushes.
+struct Attempt {
+    plan: PushPlan,
+    held: bool,
+    objective: f64,
+    axis: Vector2<f64>,
+    status: SolverStatus,
+}
+
+impl Socp {
+    /// A planner with these settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn new(settings: SocpSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self { settings })
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &SocpSettings {
+        &self.settings
+    }
+
+    fn axes(&self, starts: &[Point2<f64>], outlines: &[ConvexPolygon]) -> Vec<Vector2<f64>> {
+        let n = self.settings.axes;
+        let mut axes: Vec<Vector2<f64>> = (0..n)
+            .map(|k| {
+                let angle = std::f64::consts::PI * k as f64 / n as f64;
+                Vector2::new(angle.cos(), angle.sin())
+            })
+            .collect();
+        // Edge normals: along them an object meets the plates and its neighbours flat.
+        for outline in outlines {
+            for (a, b) in outline.edges() {
+                let edge = b - a;
+                axes.push(Vector2::new(edge.y, -edge.x).normalize());
+            }
+        }
+        for (a, p) in starts.iter().enumerate() {
+            for q in &starts[a + 1..] {
+                let joining = q - p;
+                if joining.norm() > 0.0 {
+                    axes.push(joining.normalize());
+                }
+            }
+        }
+        // Principal axis of the centroids.
+        let mean = starts.iter().map(|p| p.coords).sum::<Vector2<f64>>() / starts.len() as f64;
+        let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
+        for p in starts {
+            let d = p.coords - mean;
+            xx += d.x * d.x;
+            xy += d.x * d.y;
+            yy += d.y * d.y;
+        }
+        let angle = 0.5 * (2.0 * xy).atan2(xx - yy);
+        axes.push(Vector2::new(angle.cos(), angle.sin()));
+        axes
+    }
+
+    /// Half-planes keeping each member clear of the outside objects near the cluster.
+    ///
+    /// When a line separates an outside object from the hull of the whole cluster, that line (the
+    /// axis of largest separation) fences every member: members may move anywhere on the cluster's
+    /// side. An object reaching into the cluster's hull is fenced off from each member separately,
+    /// along the axis of largest separation between the two.
+    fn fences(&self, scene: &Scene, members: &[usize], outlines: &[ConvexPolygon]) -> Vec<Fence> {
+        let points: Vec<Point2<f64>> = members
+            .iter()
+            .flat_map(|&i| scene.world_polygon(i).vertices().to_vec())
+            .collect();
+        let hull = ConvexPolygon::new(convex_hull(&points)).ok();
+        let mut fences = Vec::new();
+        for other in (0..scene.len()).filter(|o| !members.contains(o)) {
+            let outline = scene.world_polygon(other);
+            let whole = hull
+                .as_ref()
+                .map(|h| max_separation(outline, h))
+                .filter(|&(_, separation)| separation > 0.0);
+            for (m, &index) in members.iter().enumerate() {
+                let own = scene.world_polygon(index);
+                let (normal, separation) = match whole {
+                    Some((normal, _)) => {
+                        // The member's own gap along the cluster's fence.
+                        let gap = own.projection(&normal).0 - outline.projection(&normal).1;
+                        (normal, gap)
+                    }
+                    None => max_separation(outline, own),
+                };
+                if separation > self.settings.neighbourhood {
+                    continue;
+                }
+                // n·p − h(−n) ≥ max_q n·x + kept gap, with h about the centroid.
+                let kept = self.settings.clearance.min(separation.max(0.0));
+                let far_side = outline.projection(&normal).1;
+                let offset = far_side + kept + outlines[m].support(&-normal);
+                // Never demand more than the member already has (rounding).
+                let offset = offset.min(normal.dot(&scene.centroid(index).coords));
+                fences.push(Fence {
+                    member: m,
+                    normal,
+                    offset,
+                });
+            }
+        }
+        fences
+    }
+
+    /// Whether the grasp model holds a perfect row along `axis`: the members in `order`, centroids on
+    /// one line, neighbours `gap` apart, jaws centred on it. A cheap stand-in, solved before any
+    /// program, for whether rows along `axis` can be held.
+    fn proxy_held(
+        &self,
+        outlines: &[ConvexPolygon],
+        masses: &[f64],
+        order: &[usize],
+        axis: &Vector2<f64>,
+        gripper: &crate::scene::Gripper,
+    ) -> bool {
+        let mut placed = Vec::with_capacity(order.len());
+        let mut at = 0.0;
+        for (j, &m) in order.iter().enumerate() {
+            if j > 0 {
+                at += outlines[order[j - 1]].support(axis)
+                    + outlines[m].support(&-axis)
+                    + self.settings.gap;
+            }
+            placed.push(outlines[m].translated(&(axis * at)));
+        }
+        let (Some(&first), Some(&last)) = (order.first(), order.last()) else {
+            return false;
+        };
+        let low = -outlines[first].support(&-axis);
+        let high = at + outlines[last].support(axis);
+        let jaws = JawPose {
+            center: Point2::from(axis * ((low + high) / 2.0)),
+            angle: axis.y.atan2(axis.x),
+            opening: gripper.stroke,
+        };
+        let bodies: Vec<Body<'_>> = placed
+            .iter()
+            .zip(order)
+            .map(|(outline, &m)| Body {
+                outline,
+                mass: masses[m],
+            })
+            .collect();
+        matches!(
+            squeeze_bodies(&bodies, gripper, &jaws, &self.settings.model),
+            Squeeze::Held { objects, .. } if objects.len() == order.len()
+        )
+    }
+
+    /// Whether the grasp model holds every member when the jaws close at `jaws` after the pushes.
+    fn row_is_held(
+        &self,
+        scene: &Scene,
+        members: &[usize],
+        pushes: &[Push],
+        jaws: &JawPose,
+    ) -> bool {
+        let Ok(after) = predict(scene, pushes) else {
+            return false;
+        };
+        match squeeze(&after, jaws, &self.settings.model) {
+            Squeeze::Held { objects, .. } => members.iter().all(|m| objects.contains(m)),
+            _ => false,
+        }
+    }
+
+    /// Pushes that reach `targets` in some order with every sweep and finger path clear.
+    fn sequence(
+        &self,
+        scene: &Scene,
+        members: &[usize],
+        targets: &[Point2<f64>],
+    ) -> std::result::Result<Vec<Push>, (ObjectId, SkipReason)> {
+        let moves: Vec<usize> = (0..members.len())
+            .filter(|&m| nalgebra::distance(&targets[m], &scene.centroid(members[m])) > 0.0)
+            .collect();
+        let ids: Vec<ObjectId> = scene.objects().iter().map(|o| o.id).collect();
+        let mut last_failure = None;
+        for order in permutations(&moves, 120) {
+            let mut world: Vec<ConvexPolygon> = (0..scene.len())
+                .map(|i| scene.world_polygon(i).clone())
+                .collect();
+            let mut pushes = Vec::new();
+            let mut failed = None;
+            for &m in &order {
+                let index = members[m];
+                let offset = targets[m] - scene.centroid(index);
+                let distance = offset.norm();
+                let direction = offset / distance;
+                let swept = world[index].swept_box(&offset);
+                if let Some(blocker) = (0..scene.len())
+                    .filter(|&o| o != index && world[o].box_meets(swept))
+                    .find(|&o| {
+                        cast_distance(&world[index], &direction, distance, &world[o])
+                            .is_some_and(|hit| hit < distance - 1e-9)
+                    })
+                {
+                    failed = Some((
+                        ids[index],
+                        SkipReason::BlockedBy {
+                            object: ids[blocker],
+                        },
+                    ));
+                    break;
+                }
+                match plan_fork(
+                    scene.gripper(),
+                    &self.settings.fork,
+                    &world,
+                    &ids,
+                    index,
+                    &direction,
+                    distance,
+                ) {
+                    Ok(fork) => {
+                        let from = scene.objects()[index].pose;
+                        pushes.push(Push {
+                            object: ids[index],
+                            from,
+                            to: Pose::new(from.x + offset.x, from.y + offset.y, from.yaw),
+                            direction,
+                            distance,
+                            fork,
+                        });
+                        world[index] = world[index].translated(&offset);
+                    }
+                    Err(reason) => {
+                        failed = Some((ids[index], reason));
+                        break;
+                    }
+                }
+            }
+            match failed {
+                None => return Ok(pushes),
+                Some(failure) => last_failure = Some(failure),
+            }
+        }
+        match last_failure {
+            Some(failure) => Err(failure),
+            None => Ok(Vec::new()),
+        }
+    }
+}
+
+/// The jaws the row was built for: closing along `axis`, centred on the row's extent along it and on
+/// its centre line across, fully open.
+fn intended_grasp(
+    axis: &Vector2<f64>,
+    targets: &[Point2<f64>],
+    outlines: &[ConvexPolygon],
+    centre_line: f64,
+    stroke: f64,
+) -> JawPose {
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (target, outline) in targets.iter().zip(outlines) {
+        let at = target.coords.dot(axis);
+        low = low.min(at - outline.support(&-axis));
+        high = high.max(at + outline.support(axis));
+    }
+    let across = Vector2::new(-axis.y, axis.x);
+    JawPose {
+        center: Point2::from(axis * ((low + high) / 2.0) + across * centre_line),
+        angle: axis.y.atan2(axis.x),
+        opening: stroke,
+    }
+}
+
+/// Up to `limit` orderings of `items`, the given order first (Heap's algorithm).
+fn permutations(items: &[usize], limit: usize) -> Vec<Vec<usize>> {
+    let mut current = items.to_vec();
+    let mut out = vec![current.clone()];
+    let n = current.len();
+    let mut counters = vec![0usize; n];
+    let mut i = 0;
+    while i < n && out.len() < limit {
+        if counters[i] < i {
+            if i % 2 == 0 {
+                current.swap(0, i);
+            } else {
+                current.swap(counters[i], i);
+            }
+            out.push(current.clone());
+            counters[i] += 1;
+            i = 0;
+        } else {
+            counters[i] = 0;
+            i += 1;
+        }
+    }
+    out
+}
+
+impl PushPlanner for Socp {
+    fn name(&self) -> &'static str {
+        "socp"
+    }
+
+    fn plan(&self, scene: &Scene, cluster: &[ObjectId]) -> Result<Outcome<PushPlan>> {
+        let started = Instant::now();
+        let members = scene.indices_of(cluster)?;
+        let finish = |plan: PushPlan,
+                      status: Status,
+                      backend: Option<String>,
+                      counters: Vec<(String, f64)>| {
+            let objective = plan.pushes.iter().map(|p| p.distance).sum::<f64>() + 0.0;
+            Outcome {
+                value: plan,
+                status,
+                stats: Stats {
+                    seconds: started.elapsed().as_secs_f64(),
+                    objective: Some(objective),
+                    backend_status: backend,
+                    counters,
+                    ..Stats::default()
+                },
+            }
+        };
+        if members.len() < 2 {
+            return Ok(finish(
+                PushPlan::default(),
+                Status::Optimal,
+                None,
+                Vec::new(),
+            ));
+        }
+        let starts: Vec<Point2<f64>> = members.iter().map(|&i| scene.centroid(i)).collect();
+        let outlines: Vec<ConvexPolygon> = members
+            .iter()
+            .map(|&i| {
+                scene
+                    .world_polygon(i)
+                    .translated(&-scene.centroid(i).coords)
+            })
+            .collect();
+        let masses: Vec<f64> = members
+            .iter()
+            .map(|&i| self.settings.model.mass_of(&scene.objects()[i]))
+            .collect();
+        let fences = self.fences(scene, &members, &outlines);
+        let gripper = scene.gripper();
+        let problem = RowProblem {
+            starts: &starts,
+            outlines: &outlines,
+            fences: &fences,
+            workspace: scene.workspace(),
+            row_limit: gripper.usable_gap() - self.settings.margin,
+            gap: self.settings.gap,
+            straddle: self.settings.straddle,
+        };
+        let free = vec![false; members.len()];
+        let solves = Cell::new(0usize);
+        let solver_seconds = Cell::new(0.0f64);
+        let iterations = Cell::new(0u64);
+        let last_status = Cell::new(SolverStatus::Unsolved);
+        let solve = |axis: &Vector2<f64>, order: &[usize], fixed: &[bool]| {
+            let solution = solve_row(&problem, axis, order, fixed);
+            solves.set(solves.get() + 1);
+            solver_seconds.set(solver_seconds.get() + solution.seconds);
+            iterations.set(iterations.get() + u64::from(solution.iterations));
+            last_status.set(solution.status);
+            solution
+        };
+        let natural = |axis: &Vector2<f64>| {
+            let mut order: Vec<usize> = (0..members.len()).collect();
+            order.sort_by(|&a, &b| {
+                starts[a]
+                    .coords
+                    .dot(axis)
+                    .total_cmp(&starts[b].coords.dot(axis))
+            });
+            order
+        };
+        // Turns a solved row into pushes: hold members that would barely move (solving again with
+        // them fixed), sequence the pushes, and judge the row with the grasp model.
+        let attempt = |axis: &Vector2<f64>,
+                       order: &[usize],
+                       solution: &RowSolution|
+         -> std::result::Result<Attempt, (ObjectId, SkipReason)> {
+            let fixed: Vec<bool> = (0..members.len())
+                .map(|m| {
+                    nalgebra::distance(&solution.targets[m], &starts[m]) < self.settings.min_push
+                })
+                .collect();
+            let mut targets = solution.targets.clone();
+            let mut centre_line = solution.centre_line;
+            if fixed.iter().any(|&f| f) {
+                let refined = solve(axis, order, &fixed);
+                if refined.solved() {
+                    targets = refined.targets;
+                    centre_line = refined.centre_line;
+                }
+            }
+            for (m, &hold) in fixed.iter().enumerate() {
+                if hold || nalgebra::distance(&targets[m], &starts[m]) < self.settings.min_push {
+                    targets[m] = starts[m];
+                }
+            }
+            let pushes = self.sequence(scene, &members, &targets)?;
+            let skipped = (0..members.len())
+                .filter(|&m| targets[m] == starts[m])
+                .map(|m| SkippedPush {
+                    object: scene.objects()[members[m]].id,
+                    reason: SkipReason::AlreadyInPlace,
+                })
+                .collect();
+            let jaws = intended_grasp(axis, &targets, &outlines, centre_line, gripper.stroke);
+            let held = self.row_is_held(scene, &members, &pushes, &jaws);
+            let objective = pushes.iter().map(|p| p.distance).sum();
+            Ok(Attempt {
+                plan: PushPlan {
+                    pushes,
+                    skipped,
+                    intended_grasp: Some(jaws),
+                },
+                held,
+                objective,
+                axis: *axis,
+                status: solution.status,
+            })
+        };
+
+        // Axes that can hold a row, with their lower bounds and whether a perfect row along them is
+        // held by the grasp model.
+        let mut axes: Vec<(f64, Vector2<f64>, bool)> = self
+            .axes(&starts, &outlines)
+            .into_iter()
+            .filter_map(|axis| {
+                let bound = lower_bound(&problem, &axis)?;
+                let proxy = self.settings.prefer_held_rows
+                    && self.proxy_held(&outlines, &masses, &natural(&axis), &axis, gripper);
+                Some((bound, axis, proxy))
+            })
+            .collect();
+        axes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut attempts: Vec<Attempt> = Vec::new();
+        let mut failure: Option<(ObjectId, SkipReason)> = None;
+        let mut tried = vec![false; axes.len()];
+        let mut solved_any = false;
+        let cheapest = |attempts: &[Attempt], held_only: bool| {
+            attempts
+                .iter()
+                .enumerate()
+                .filter(|(_, a)| a.held || !held_only)
+                .min_by(|a, b| a.1.objective.total_cmp(&b.1.objective))
+                .map(|(k, a)| (k, a.objective))
+        };
+        // Phase 1: every axis, those whose perfect row is held first, each in order of its bound,
+        // skipping any whose bound cannot beat the cheapest held row found.
+        // Phase 2 (no held row found, or held rows not preferred): the axes not yet solved, in order
+        // of their bound, until none can beat the cheapest row that can be pushed into place.
+        let mut held_first: Vec<usize> = (0..axes.len()).collect();
+        held_first.sort_by_key(|&k| !axes[k].2);
+        for held_phase in [true, false] {
+            if held_phase && !self.settings.prefer_held_rows {
+                continue;
+            }
+            let visit: Vec<usize> = if held_phase {
+                held_first.clone()
+            } else {
+                (0..axes.len()).collect()
+            };
+            for k in visit {
+                let (bound, axis, _) = axes[k];
+                if tried[k] {
+                    continue;
+                }
+                if cheapest(&attempts, held_phase).is_some_and(|(_, best)| bound >= best - 1e-12) {
+                    if held_phase {
+                        continue;
+                    }
+                    break;
+                }
+                tried[k] = true;
+                let order = natural(&axis);
+                let solution = solve(&axis, &order, &free);
+                if !solution.solved() {
+                    continue;
+                }
+                solved_any = true;
+                match attempt(&axis, &order, &solution) {
+                    Ok(found) => attempts.push(found),
+                    Err(reason) => failure = Some(reason),
+                }
+            }
+            if held_phase && cheapest(&attempts, true).is_some() {
+                break;
+            }
+        }
+        // Other orders along the chosen axis (two objects can only swap by passing each other,
+        // which never shortens the pushes, so pairs keep their natural order).
+        let held_found = cheapest(&attempts, true).is_some();
+        if members.len() >= 3
+            && let Some((k, _)) = cheapest(&attempts, held_found)
+        {
+            let axis = attempts[k].axis;
+            for order in permutations(&natural(&axis), self.settings.max_orders)
+                .into_iter()
+                .skip(1)
+            {
+                let solution = solve(&axis, &order, &free);
+                if solution.solved()
+                    && let Ok(found) = attempt(&axis, &order, &solution)
+                {
+                    attempts.push(found);
+                }
+            }
+        }
+        let held_found = cheapest(&attempts, true).is_some();
+        let mut counters = vec![
+            ("socp_solves".to_string(), solves.get() as f64),
+            ("solver_seconds".to_string(), solver_seconds.get()),
+            ("iterations".to_string(), iterations.get() as f64),
+            ("axes".to_string(), axes.len() as f64),
+            (
+                "held_axes".to_string(),
+                axes.iter().filter(|a| a.2).count() as f64,
+            ),
+            ("fences".to_string(), fences.len() as f64),
+        ];
+        if let Some((k, _)) = cheapest(&attempts, held_found) {
+            let chosen = attempts.swap_remove(k);
+            counters.push(("axis".to_string(), chosen.axis.y.atan2(chosen.axis.x)));
+            counters.push(("row_held".to_string(), if chosen.held { 1.0 } else { 0.0 }));
+            return Ok(finish(
+                chosen.plan,
+                Status::Optimal,
+                Some(format!("clarabel: {:?}", chosen.status)),
+                counters,
+            ));
+        }
+        let ids: Vec<ObjectId> = members.iter().map(|&i| scene.objects()[i].id).collect();
+        let (status, skipped) = match failure {
+            Some((object, reason)) if solved_any => (
+                Status::Failed {
+                    reason: format!("no push sequence for any row: object {object}: {reason}"),
+                },
+                vec![SkippedPush { object, reason }],
+            ),
+            _ => (
+                Status::Infeasible,
+                ids.iter()
+                    .map(|&object| SkippedPush {
+                        object,
+                        reason: SkipReason::NoRow,
+                    })
+                    .collect(),
+            ),
+        };
+        Ok(finish(
+            PushPlan {
+                pushes: Vec::new(),
+                skipped,
+                intended_grasp: None,
+            },
+            status,
+            Some(format!("clarabel: {:?}", last_status.get())),
+            counters,
+        ))
+    }
+}

@@ -1,0 +1,150 @@
+//! The push-target SOCP: known optima, infeasible clusters, and plans that verify.
+
+use nalgebra::Point2;
+use pushmog::cluster::{Clusterer, Hierarchical};
+use pushmog::geometry::{ConvexPolygon, distance};
+use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
+use pushmog::plan::Status;
+use pushmog::push::{PushPlanner, SkipReason, Socp, TowardCentral, predict};
+use pushmog::scene::{
+    GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
+    generate_scene,
+};
+
+fn square(side: f64) -> ConvexPolygon {
+    let h = side / 2.0;
+    ConvexPolygon::new(vec![
+        Point2::new(-h, -h),
+        Point2::new(h, -h),
+        Point2::new(h, h),
+        Point2::new(-h, h),
+    ])
+    .unwrap()
+}
+
+fn squares(side: f64, at: &[(f64, f64)]) -> Scene {
+    let objects = at
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, y))| Object {
+            id: ObjectId(k as u32),
+            name: None,
+            polygon: square(side),
+            pose: Pose::new(x, y, 0.0),
+            height: 0.03,
+            mass: None,
+        })
+        .collect();
+    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
+}
+
+fn ids(n: u32) -> Vec<ObjectId> {
+    (0..n).map(ObjectId).collect()
+}
+
+#[test]
+fn two_squares_on_a_line_meet_with_the_least_total_push() {
+    // 30 mm squares 100 mm apart. The row may span the usable gap less the margin, 75 − 5 = 70 mm,
+    // so their centres may stay 70 − 30 = 40 mm apart: 60 mm of pushing in all, along the line.
+    let scene = squares(0.03, &[(0.2, 0.2), (0.3, 0.2)]);
+    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
+    assert_eq!(outcome.status, Status::Optimal);
+    let total = outcome.stats.objective.unwrap();
+    assert!((total - 0.060).abs() < 1e-6, "{total}");
+    let after = predict(&scene, &outcome.value.pushes).unwrap();
+    let gap = after.centroid(1).x - after.centroid(0).x;
+    assert!((gap - 0.040).abs() < 1e-6, "{gap}");
+    assert!((after.centroid(1).y - after.centroid(0).y).abs() < 1e-6);
+}
+
+#[test]
+fn a_symmetric_triple_pulls_its_ends_in() {
+    // Three 20 mm squares 100 mm apart on a line. The row spans at most 70 mm, so the end centres
+    // come within 50 mm: 150 mm of pushing, 75 mm each end by symmetry; the middle stays.
+    let scene = squares(0.02, &[(0.15, 0.2), (0.25, 0.2), (0.35, 0.2)]);
+    let outcome = Socp::default().plan(&scene, &ids(3)).unwrap();
+    assert_eq!(outcome.status, Status::Optimal);
+    let total = outcome.stats.objective.unwrap();
+    assert!((total - 0.150).abs() < 1e-6, "{total}");
+    let pushed: Vec<ObjectId> = outcome.value.pushes.iter().map(|p| p.object).collect();
+    assert!(
+        !pushed.contains(&ObjectId(1)),
+        "the middle square is already in place"
+    );
+    for push in &outcome.value.pushes {
+        assert!((push.distance - 0.075).abs() < 1e-6, "{}", push.distance);
+    }
+}
+
+#[test]
+fn a_cluster_too_wide_for_the_jaws_is_infeasible() {
+    // Three 30 mm squares need 90 mm in a row; the jaws give 75 mm.
+    let scene = squares(0.03, &[(0.15, 0.2), (0.25, 0.2), (0.35, 0.2)]);
+    let outcome = Socp::default().plan(&scene, &ids(3)).unwrap();
+    assert_eq!(outcome.status, Status::Infeasible);
+    assert!(outcome.value.pushes.is_empty());
+    assert!(
+        outcome
+            .value
+            .skipped
+            .iter()
+            .all(|s| s.reason == SkipReason::NoRow)
+    );
+}
+
+#[test]
+fn an_outside_object_is_kept_clear() {
+    // A third square sits just beside the line between the two cluster members.
+    let scene = squares(0.03, &[(0.2, 0.2), (0.3, 0.2), (0.25, 0.237)]);
+    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
+    assert_eq!(outcome.status, Status::Optimal);
+    let after = predict(&scene, &outcome.value.pushes).unwrap();
+    // The row closes to 40 mm between centres, passing below the outside square, which it keeps
+    // the 2 mm clearance from (its 7 mm gap was larger).
+    assert!((after.centroid(1).x - after.centroid(0).x - 0.040).abs() < 1e-6);
+    for member in 0..2 {
+        let gap = distance(after.world_polygon(member), after.world_polygon(2));
+        assert!(gap >= 0.002 - 1e-6, "member {member}: {gap}");
+    }
+}
+
+/// SOCP pushes on the clusters of seeded scenes: the predicted row fits between the jaws (all
+/// members caught in one row, judged with unlimited friction) for most feasible clusters.
+#[test]
+fn socp_rows_fit_the_jaws_on_seeded_scenes() {
+    let geometric = MultiObject::new(MultiObjectSettings {
+        model: GraspModel::unlimited_friction(),
+        ..MultiObjectSettings::default()
+    })
+    .unwrap();
+    let (mut clusters, mut fits, mut infeasible) = (0, 0, 0);
+    for seed in 0..10 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let clustering = Hierarchical::default().cluster(&scene).unwrap().value;
+        for cluster in clustering.clusters.iter().filter(|c| c.len() > 1) {
+            clusters += 1;
+            let outcome = Socp::default().plan(&scene, cluster).unwrap();
+            if outcome.status == Status::Infeasible {
+                infeasible += 1;
+                continue;
+            }
+            let after = predict(&scene, &outcome.value.pushes).unwrap();
+            let hints: Vec<_> = outcome.value.intended_grasp.into_iter().collect();
+            let grasp = geometric
+                .plan_with_hints(&after, cluster, &hints)
+                .unwrap()
+                .value;
+            if grasp.is_some_and(|g| cluster.iter().all(|id| g.objects.contains(id))) {
+                fits += 1;
+            }
+            // The paper's planner plans the same cluster without error too.
+            TowardCentral::default().plan(&scene, cluster).unwrap();
+        }
+    }
+    println!("{clusters} clusters, {fits} fit, {infeasible} infeasible");
+    assert!(
+        fits * 10 >= (clusters - infeasible) * 8,
+        "{fits} of {clusters}"
+    );
+}
