@@ -211,7 +211,12 @@ fn render_draws_every_object_with_its_id_and_a_scale_bar() {
 
 #[test]
 fn schemas_are_json_and_describe_the_fields() {
-    for (format, field) in [("scene", "workspace"), ("object-set", "objects")] {
+    for (format, field) in [
+        ("scene", "workspace"),
+        ("object-set", "objects"),
+        ("policy", "socp"),
+        ("sim", "grip_force"),
+    ] {
         let output = pushmog(&["schema", format]);
         assert_eq!(output.status.code(), Some(0));
         let schema: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
@@ -362,4 +367,56 @@ fn a_tampered_plan_fails_verification() {
     let output = pushmog(&["verify", plan.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&output.stderr).contains("trip 0: grasp"));
+}
+
+#[test]
+fn run_in_the_simulator_with_a_replay() {
+    let dir = scratch("sim-run");
+    let scene = dir.join("scene.json");
+    let replay = dir.join("replay.html");
+    let generated = pushmog(&[
+        "scene",
+        "generate",
+        "--objects",
+        "6",
+        "--width",
+        "0.25",
+        "--depth",
+        "0.2",
+        "--seed",
+        "2",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    assert_eq!(generated.status.code(), Some(0));
+    let output = pushmog(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--policy",
+        "push-mog",
+        "--executor",
+        "sim",
+        "--seed",
+        "3",
+        "--replay",
+        replay.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    for field in [
+        "executor sim",
+        "objects per trip",
+        "robot time",
+        "picks per hour",
+    ] {
+        assert!(stdout.contains(field), "{stdout}");
+    }
+    let html = std::fs::read_to_string(replay).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    assert!(html.contains("<svg") && html.contains("trip 1 of"));
 }

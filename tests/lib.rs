@@ -9,4 +9,5 @@ mod geometry_properties;
 mod policies;
 mod pushing_socp;
 mod scene_json;
+mod sim;
 mod support;

@@ -2,9 +2,11 @@
 //!
 //! The closed loop talks to an [`Executor`] only: it resets it to a scene, asks for pushes and grasps,
 //! and observes the table after each trip. [`Ideal`] applies plans exactly (a planner's own
-//! prediction); a physics simulator and a UR5 executor arrive in their own issues.
+//! prediction); [`Sim`] carries them out in a physics engine (`sim/`); a UR5 executor arrives in its own
+//! issue.
 
 mod ideal;
+pub mod sim;
 
 use crate::error::Result;
 use crate::grasp::Grasp;
@@ -12,6 +14,7 @@ use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
 pub use ideal::Ideal;
+pub use sim::{Sim, SimSettings};
 
 /// Something that carries out pushes and grasps.
 pub trait Executor {
@@ -43,4 +46,10 @@ pub trait Executor {
     /// # Errors
     /// Environment faults only.
     fn observe(&mut self) -> Result<Scene>;
+
+    /// Objects still on the table that the last observation left out because nothing can be planned
+    /// for them, with the reason (toppled, outside the workspace). Empty by default.
+    fn lost(&self) -> Vec<(ObjectId, &'static str)> {
+        Vec::new()
+    }
 }

@@ -11,14 +11,18 @@
 //!    predecessor and is met by at most one successor, and only the first and last touch the plates.
 //!    Anything else (an object that meets nothing, two objects side by side) is
 //!    [`Squeeze::NotARow`].
-//! 3. **Friction in the plane.** Each object in the row is held between two contacts, a plate or a
+//! 3. **Plates.** Each plate (a rectangle `plate_length` long across the axis) closes along the axis
+//!    until it meets the row, and must meet the row's end object first. Its contact is computed like any
+//!    other: a vertex on the plate's face pushes along the axis, but a plate's corner on an object's
+//!    slanted edge pushes along that edge's normal.
+//! 4. **Friction in the plane.** Each object in the row is held between two contacts, a plate or a
 //!    neighbour. By Nguyen's two-contact condition the object is held when some pair of points, one on
 //!    each contact patch, is joined by a segment within the friction cone (half-angle `atan μ`) of both
 //!    inward contact normals. A plate's normal is `±a`; between objects the normal is that of the edge in
 //!    contact. `μ` is `friction_jaw` at a plate and `friction_object` between objects. Patches are
 //!    sampled at 5 points. An object that fails slips out of the row ([`Squeeze::Slips`]): three
 //!    equal equilateral triangles are refused here for all plausible `μ`.
-//! 4. **Lifting.** With grip force `N`, each plate carries half the row's weight `W`, which needs
+//! 5. **Lifting.** With grip force `N`, each plate carries half the row's weight `W`, which needs
 //!    `μ_jaw N ≥ W/2`; the interface after the first `k` objects carries `|W/2 − W_k|` and needs at most
 //!    `μ_obj N |n·a|`. Masses come from the objects, or from `density × area × height`.
 //!
@@ -236,46 +240,53 @@ pub fn squeeze_bodies(
             _ => return Squeeze::NotARow { object: index },
         }
     }
-    // Only the ends may touch the plates.
+    // Each plate closes along the axis until it meets the row; it must meet the row's end object first.
     let tolerance = model.contact_tolerance;
-    let (row_low, row_high) = row
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-            let (a, b) = p.projection(&axis);
-            (l.min(a), h.max(b))
-        });
     let last = row.len() - 1;
-    for (k, outline) in row.iter().enumerate() {
-        let (a, b) = outline.projection(&axis);
-        if (k != 0 && a <= row_low + tolerance) || (k != last && b >= row_high - tolerance) {
-            return Squeeze::NotARow { object: caught[k] };
+    let meet = |plate: &ConvexPolygon, direction: Vector2<f64>, end: usize| {
+        let mut first: Option<(f64, usize)> = None;
+        for (k, outline) in row.iter().enumerate() {
+            if let Some(d) = cast_distance(plate, &direction, jaws.opening, outline)
+                && first.is_none_or(|(best, _)| d < best - SLIDE_TIE)
+            {
+                first = Some((d, k));
+            }
         }
-    }
-
-    // Friction in the plane, object by object.
-    let jaw_side = |outline: &ConvexPolygon, inward: Vector2<f64>| {
-        let extreme = if inward.dot(&axis) > 0.0 {
-            row_low
-        } else {
-            row_high
-        };
-        let touching: Vec<Point2<f64>> = outline
-            .vertices()
-            .iter()
-            .copied()
-            .filter(|v| (v.coords.dot(&axis) - extreme).abs() <= tolerance.max(1e-9))
-            .collect();
-        Side {
-            ends: extreme_points(&touching, &Vector2::new(-axis.y, axis.x)),
-            inward,
-            friction: model.friction_jaw,
+        match first {
+            Some((d, k)) if k == end => Ok((d, plate.translated(&(direction * d)))),
+            Some((_, k)) => Err(caught[k]),
+            None => Err(caught[end]),
         }
     };
+    let (left_travel, left_plate) = match meet(&plates[1], axis, 0) {
+        Ok(found) => found,
+        Err(object) => return Squeeze::NotARow { object },
+    };
+    let (right_travel, right_plate) = match meet(&plates[0], -axis, last) {
+        Ok(found) => found,
+        Err(object) => return Squeeze::NotARow { object },
+    };
+    let width = jaws.gap(gripper) - left_travel - right_travel;
+    let plate_contact = |plate: &ConvexPolygon, object: &ConvexPolygon| {
+        contact_patch(plate, object, tolerance.max(1e-9)).map(|patch| Side {
+            ends: patch.ends,
+            inward: patch.normal,
+            friction: model.friction_jaw,
+        })
+    };
+    let (Some(left_side), Some(right_side)) = (
+        plate_contact(&left_plate, &row[0]),
+        plate_contact(&right_plate, &row[last]),
+    ) else {
+        return Squeeze::NotARow { object: caught[0] };
+    };
+
+    // Friction in the plane, object by object.
     let mut sides: Vec<[Side; 2]> = Vec::with_capacity(row.len());
     let mut interface_normals: Vec<Vector2<f64>> = Vec::new();
     for k in 0..row.len() {
         let left = if k == 0 {
-            jaw_side(&row[k], axis)
+            left_side
         } else {
             let Some(patch) = contact_patch(&row[k - 1], &row[k], tolerance.max(1e-9)) else {
                 return Squeeze::NotARow { object: caught[k] };
@@ -287,7 +298,7 @@ pub fn squeeze_bodies(
             }
         };
         let right = if k == last {
-            jaw_side(&row[k], -axis)
+            right_side
         } else {
             let Some(patch) = contact_patch(&row[k], &row[k + 1], tolerance.max(1e-9)) else {
                 return Squeeze::NotARow {
@@ -326,7 +337,7 @@ pub fn squeeze_bodies(
     }
     Squeeze::Held {
         objects: caught,
-        width: row_high - row_low,
+        width,
     }
 }
 
@@ -350,22 +361,6 @@ pub(super) fn plate_clearance(scene: &Scene, jaws: &JawPose, held: &[usize], cap
         }
     }
     clearance
-}
-
-/// The two extreme points of a point set along `direction` (equal for one point).
-fn extreme_points(points: &[Point2<f64>], direction: &Vector2<f64>) -> [Point2<f64>; 2] {
-    let key = |p: &Point2<f64>| p.coords.dot(direction);
-    let mut low = points[0];
-    let mut high = points[0];
-    for p in points {
-        if key(p) < key(&low) {
-            low = *p;
-        }
-        if key(p) > key(&high) {
-            high = *p;
-        }
-    }
-    [low, high]
 }
 
 /// Nguyen's condition over sampled points of two contact patches.

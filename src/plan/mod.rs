@@ -70,6 +70,8 @@ pub struct Plan {
     pub failed_attempts: Vec<String>,
     /// How the run ended.
     pub status: RunStatus,
+    /// Robot time of the run by the policy's time model: every trip and every push, seconds.
+    pub seconds: f64,
 }
 
 impl Plan {
@@ -100,6 +102,15 @@ impl Plan {
             .map(|p| p.distance)
             .sum::<f64>()
             + 0.0 // an empty sum is −0.0; print it as 0
+    }
+
+    /// Objects carried per hour of robot time (0 for a run that took no time).
+    pub fn picks_per_hour(&self) -> f64 {
+        if self.seconds > 0.0 {
+            3600.0 * self.objects_carried() as f64 / self.seconds
+        } else {
+            0.0
+        }
     }
 
     /// Trips that carried nothing.

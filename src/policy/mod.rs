@@ -40,6 +40,7 @@ use crate::push::{
 };
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
+use crate::time_model::TimeModel;
 
 /// Which policy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -147,6 +148,9 @@ pub struct PolicySettings {
     pub multi: MultiObjectSettings,
     /// Limits of the loop.
     pub run: LoopSettings,
+    /// Seconds per trip and per push: the time each run reports, and the time the MILP clustering
+    /// minimises (it replaces `milp.time_model`).
+    pub time_model: TimeModel,
 }
 
 /// Limits that keep the closed loop finite.
@@ -180,6 +184,7 @@ impl PolicySettings {
         self.socp.validate()?;
         self.single.validate()?;
         self.multi.validate()?;
+        self.time_model.validate()?;
         if self.run.max_failed_attempts == 0 {
             return Err(Error::field(
                 "run",
@@ -260,7 +265,10 @@ impl Policy {
         Ok(Self {
             kind,
             clusterer: if kind.optimal_clustering() {
-                AnyClusterer::Milp(Milp::new(settings.milp.clone())?)
+                AnyClusterer::Milp(Milp::new(MilpSettings {
+                    time_model: settings.time_model.clone(),
+                    ..settings.milp.clone()
+                })?)
             } else {
                 AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
             },
@@ -301,9 +309,30 @@ impl Policy {
         let mut in_a_row = 0;
         let status = loop {
             let observed = executor.observe()?;
-            let remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
+            let lost = executor.lost();
+            let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
+            remaining.extend(lost.iter().map(|(id, _)| *id));
             if observed.is_empty() {
-                break RunStatus::Cleared;
+                if lost.is_empty() {
+                    break RunStatus::Cleared;
+                }
+                let mut reasons: Vec<&str> = lost.iter().map(|(_, why)| *why).collect();
+                reasons.sort_unstable();
+                reasons.dedup();
+                let counts: Vec<String> = reasons
+                    .iter()
+                    .map(|why| {
+                        let n = lost.iter().filter(|(_, w)| w == why).count();
+                        format!("{n} {why}")
+                    })
+                    .collect();
+                break RunStatus::Stopped {
+                    remaining,
+                    reason: format!(
+                        "nothing left that can be planned for: {}",
+                        counts.join(", ")
+                    ),
+                };
             }
             let stop = |reason: String| RunStatus::Stopped {
                 remaining: remaining.clone(),
@@ -347,7 +376,20 @@ impl Policy {
                 carried,
             });
         };
+        let gripper = scene.gripper();
+        let model = &self.settings.time_model;
+        let seconds = trips
+            .iter()
+            .map(|t| {
+                model.trip_seconds(gripper)
+                    + t.pushes
+                        .iter()
+                        .map(|p| model.push_seconds(gripper, p.distance))
+                        .sum::<f64>()
+            })
+            .sum();
         Ok(Plan {
+            seconds,
             policy: self.kind.name().to_string(),
             executor: executor.name().to_string(),
             seed,

@@ -11,7 +11,7 @@ mod plan;
 mod svg;
 
 pub use figure::{Figure, OBJECT_FILL, OBJECT_STROKE, RenderOptions, UNGRASPABLE_STROKE};
-pub use plan::{plan_svg, trip_colour};
+pub use plan::{plan_svg, replay_html, trip_colour, trip_svg};
 pub use svg::{Canvas, Style};
 
 use crate::scene::Scene;

@@ -5,11 +5,11 @@
 use nalgebra::Point2;
 
 use super::figure::{Figure, RenderOptions};
-use super::svg::Style;
+use super::svg::{Canvas, Style};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull};
-use crate::plan::Plan;
-use crate::scene::Scene;
+use crate::plan::{Plan, Trip};
+use crate::scene::{Gripper, Scene};
 
 /// Colours of trips, cycled (Tableau 10).
 const PALETTE: [&str; 10] = [
@@ -44,57 +44,144 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
     figure.objects(&fills);
     let gripper = scene.gripper().clone();
     for (k, trip) in plan.trips.iter().enumerate() {
-        let colour = trip_colour(k);
-        let trip_scene = Scene::new(trip.scene.clone())?;
-        let members: Vec<usize> = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
-            Some(cluster) => trip_scene.indices_of(cluster)?,
-            None => trip_scene.indices_of(&trip.grasp.objects)?,
-        };
-        let canvas = figure.canvas();
-        canvas.begin_group(&format!("trip-{}", k + 1));
-        // The cluster's outline, slightly enlarged around its objects.
-        let points: Vec<Point2<f64>> = members
-            .iter()
-            .flat_map(|&i| trip_scene.world_polygon(i).vertices().to_vec())
-            .collect();
-        let hull = convex_hull(&points);
-        if hull.len() >= 3 {
-            let mut style = Style::outline(colour, 1.5);
-            style.dash = "6 3".to_string();
-            canvas.polygon(&grow(&hull, 0.006), &style);
-        }
-        for push in &trip.pushes {
-            let Some(i) = trip_scene.index_of(push.object) else {
-                continue;
-            };
-            let object = &trip_scene.objects()[i];
-            let target = object.polygon.transformed(&push.to.isometry());
-            let mut ghost = Style::outline(colour, 1.2);
-            ghost.dash = "3 2".to_string();
-            canvas.polygon(target.vertices(), &ghost);
-            canvas.arrow(
-                &trip_scene.centroid(i),
-                &target.centroid(),
-                8.0,
-                &Style::outline(colour, 2.0),
-            );
-        }
-        for plate in trip.grasp.jaws.plates(&gripper) {
-            let mut style = Style::filled(colour, "#202020");
-            style.fill_opacity = 0.85;
-            canvas.polygon(plate.vertices(), &style);
-        }
-        // The trip number beside the cluster.
-        if let Some(top) = points.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)) {
-            let at = Point2::new(top.x, top.y + 0.012);
-            canvas.dot(&at, 8.0, &Style::filled(colour, "white"));
-            canvas.label(&at, &(k + 1).to_string(), 10.0, "white");
-        }
-        canvas.end_group();
+        draw_trip(figure.canvas(), trip, k, &gripper)?;
     }
     figure.legend_entry("#202020", "jaw plates");
     figure.legend_entry("#808080", "push (dashed: target)");
     Ok(figure.finish(title))
+}
+
+/// One trip's layer: its cluster outlined and numbered, push arrows with dashed targets, jaw plates.
+fn draw_trip(canvas: &mut Canvas, trip: &Trip, k: usize, gripper: &Gripper) -> Result<()> {
+    let colour = trip_colour(k);
+    let trip_scene = Scene::new(trip.scene.clone())?;
+    let members: Vec<usize> = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
+        Some(cluster) => trip_scene.indices_of(cluster)?,
+        None => trip_scene.indices_of(&trip.grasp.objects)?,
+    };
+    canvas.begin_group(&format!("trip-{}", k + 1));
+    // The cluster's outline, slightly enlarged around its objects.
+    let points: Vec<Point2<f64>> = members
+        .iter()
+        .flat_map(|&i| trip_scene.world_polygon(i).vertices().to_vec())
+        .collect();
+    let hull = convex_hull(&points);
+    if hull.len() >= 3 {
+        let mut style = Style::outline(colour, 1.5);
+        style.dash = "6 3".to_string();
+        canvas.polygon(&grow(&hull, 0.006), &style);
+    }
+    for push in &trip.pushes {
+        let Some(i) = trip_scene.index_of(push.object) else {
+            continue;
+        };
+        let object = &trip_scene.objects()[i];
+        let target = object.polygon.transformed(&push.to.isometry());
+        let mut ghost = Style::outline(colour, 1.2);
+        ghost.dash = "3 2".to_string();
+        canvas.polygon(target.vertices(), &ghost);
+        canvas.arrow(
+            &trip_scene.centroid(i),
+            &target.centroid(),
+            8.0,
+            &Style::outline(colour, 2.0),
+        );
+    }
+    for plate in trip.grasp.jaws.plates(gripper) {
+        let mut style = Style::filled(colour, "#202020");
+        style.fill_opacity = 0.85;
+        canvas.polygon(plate.vertices(), &style);
+    }
+    // The trip number beside the cluster.
+    if let Some(top) = points.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)) {
+        let at = Point2::new(top.x, top.y + 0.012);
+        canvas.dot(&at, 8.0, &Style::filled(colour, "white"));
+        canvas.label(&at, &(k + 1).to_string(), 10.0, "white");
+    }
+    canvas.end_group();
+    Ok(())
+}
+
+/// The SVG drawing of trip `k` of a run over the scene it was planned on: the objects it carried
+/// filled, its cluster, pushes and jaws.
+///
+/// # Errors
+/// Scene validation errors for a corrupt trip.
+pub fn trip_svg(trip: &Trip, k: usize, options: &RenderOptions, title: &str) -> Result<String> {
+    let scene = Scene::new(trip.scene.clone())?;
+    let fills: Vec<Option<String>> = scene
+        .objects()
+        .iter()
+        .map(|o| trip.carried.contains(&o.id).then(|| light(trip_colour(k))))
+        .collect();
+    let mut figure = Figure::new(&scene, options);
+    figure.objects(&fills);
+    draw_trip(figure.canvas(), trip, k, scene.gripper())?;
+    figure.legend_entry("#202020", "jaw plates");
+    Ok(figure.finish(title))
+}
+
+/// A self-contained HTML page to step through a run trip by trip (buttons or arrow keys), each frame
+/// the observation the trip was planned on with its pushes and grasp, and what it carried.
+///
+/// # Errors
+/// As [`trip_svg`].
+pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
+    let mut frames = Vec::with_capacity(plan.trips.len());
+    for (k, trip) in plan.trips.iter().enumerate() {
+        let carried: Vec<String> = trip.carried.iter().map(|id| id.to_string()).collect();
+        let title = format!(
+            "trip {} of {}: {} pushes, carried {} ({})",
+            k + 1,
+            plan.trips.len(),
+            trip.pushes.len(),
+            trip.carried.len(),
+            if carried.is_empty() {
+                "nothing".to_string()
+            } else {
+                carried.join(", ")
+            }
+        );
+        frames.push((title.clone(), trip_svg(trip, k, options, &title)?));
+    }
+    let mut html = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>pushmog replay</title>\n\
+         <style>body{font-family:sans-serif;margin:16px} .frame{display:none} .frame.on{display:block}\
+         button{font-size:16px;margin-right:8px}</style></head><body>\n",
+    );
+    html.push_str(&format!(
+        "<h2>policy {}, executor {}, seed {}: {} trips, {} objects carried, {:.3} objects per trip</h2>\n",
+        escape(&plan.policy),
+        escape(&plan.executor),
+        plan.seed,
+        plan.trips.len(),
+        plan.objects_carried(),
+        plan.objects_per_trip()
+    ));
+    html.push_str("<p><button onclick=\"show(-1)\">previous</button><button onclick=\"show(1)\">next</button><span id=\"caption\"></span></p>\n");
+    for (k, (title, svg)) in frames.iter().enumerate() {
+        html.push_str(&format!(
+            "<div class=\"frame{}\" data-title=\"{}\">{}</div>\n",
+            if k == 0 { " on" } else { "" },
+            escape(title),
+            svg
+        ));
+    }
+    html.push_str(
+        "<script>let k=0;const f=document.querySelectorAll('.frame');\n\
+         function show(d){if(!f.length)return;f[k].classList.remove('on');k=(k+d+f.length)%f.length;\
+         f[k].classList.add('on');document.getElementById('caption').textContent=f[k].dataset.title;}\n\
+         document.addEventListener('keydown',e=>{if(e.key==='ArrowRight')show(1);if(e.key==='ArrowLeft')show(-1);});\n\
+         show(0);</script></body></html>\n",
+    );
+    Ok(html)
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// A colour mixed halfway with white, for fills under outlines.

@@ -8,11 +8,11 @@ use pushmog::cluster::{
     compare_clustering as compare, comparison_markdown,
 };
 use pushmog::error::{Error, Result};
-use pushmog::exec::{Executor, Ideal};
+use pushmog::exec::{Executor, Ideal, Sim, SimSettings};
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, RunStatus, verify as verify_plan};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
-use pushmog::render::{RenderOptions, plan_svg, scene_svg};
+use pushmog::render::{RenderOptions, plan_svg, replay_html, scene_svg};
 use pushmog::scene::{
     GeneratorSettings, ObjectSet, Scene, Workspace, builtin_object_set, generate_scene,
 };
@@ -138,21 +138,32 @@ fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
     Policy::new(kind, settings)
 }
 
-fn executor(name: &str, policy: &Policy) -> Result<Box<dyn Executor>> {
-    match name {
-        "ideal" => Ok(Box::new(Ideal::new(policy.settings().multi.model.clone()))),
-        other => Err(Error::field(
+fn executor(
+    name: &str,
+    policy: &Policy,
+    sim: Option<(SimSettings, u64)>,
+) -> Result<Box<dyn Executor>> {
+    match (name, sim) {
+        ("ideal", _) => Ok(Box::new(Ideal::new(policy.settings().multi.model.clone()))),
+        ("sim", Some((settings, seed))) => Ok(Box::new(Sim::new(settings, seed)?)),
+        ("sim", None) => Ok(Box::new(Sim::new(SimSettings::default(), 0)?)),
+        (other, _) => Err(Error::field(
             "run",
             "--executor",
-            format!("unknown executor `{other}`; available: ideal"),
+            format!("unknown executor `{other}`; available: ideal, sim"),
         )),
     }
+}
+
+/// The simulator's seed for a run seed: distinct from the policy's stream, fixed by it.
+fn sim_seed(seed: u64) -> u64 {
+    seed ^ 0x5157_5349_4d00_0000
 }
 
 pub fn plan(args: &PlanArgs) -> Result<()> {
     let scene = read_scene(&args.scene)?;
     let policy = policy(&args.policy, args.settings.as_deref())?;
-    let mut executor = executor("ideal", &policy)?;
+    let mut executor = executor("ideal", &policy, None)?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     write_output(args.output.as_deref(), &to_json(&plan))?;
     eprint!("{}", summary(&plan, scene.len()));
@@ -162,10 +173,23 @@ pub fn plan(args: &PlanArgs) -> Result<()> {
 pub fn run(args: &RunArgs) -> Result<()> {
     let scene = read_scene(&args.scene)?;
     let policy = policy(&args.policy, args.settings.as_deref())?;
-    let mut executor = executor(&args.executor, &policy)?;
+    let mut sim: SimSettings = settings_or_default(args.sim_settings.as_deref())?;
+    if args.noiseless {
+        sim = SimSettings {
+            perception_position: 0.0,
+            perception_yaw: 0.0,
+            actuation_position: 0.0,
+            actuation_yaw: 0.0,
+            ..sim
+        };
+    }
+    let mut executor = executor(&args.executor, &policy, Some((sim, sim_seed(args.seed))))?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     if let Some(path) = &args.plan {
         json::write_text(path, &to_json(&plan))?;
+    }
+    if let Some(path) = &args.replay {
+        json::write_text(path, &replay_html(&plan, &RenderOptions::default())?)?;
     }
     print!("{}", summary(&plan, scene.len()));
     Ok(())
@@ -195,6 +219,11 @@ fn summary(plan: &Plan, objects: usize) -> String {
     let skipped: usize = plan.trips.iter().map(|t| t.skipped_pushes.len()).sum();
     out.push_str(&format!("pushes skipped    {skipped}\n"));
     out.push_str(&format!("failed grasps     {}\n", plan.failed_grasps()));
+    out.push_str(&format!(
+        "robot time        {:.1} s ({:.0} picks per hour)\n",
+        plan.seconds,
+        plan.picks_per_hour()
+    ));
     out.push_str(&format!(
         "failed attempts   {}\n",
         plan.failed_attempts.len()
@@ -399,6 +428,9 @@ pub fn schema(format: SchemaFormat) -> Result<()> {
         SchemaFormat::ObjectSet => json::object_set_schema(),
         SchemaFormat::Policy => {
             serde_json::to_value(schemars::schema_for!(PolicySettings)).unwrap_or_default()
+        }
+        SchemaFormat::Sim => {
+            serde_json::to_value(schemars::schema_for!(SimSettings)).unwrap_or_default()
         }
     };
     print!("{}", to_json(&schema));

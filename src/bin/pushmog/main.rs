@@ -127,9 +127,18 @@ struct RunArgs {
     /// Policy: sog, mog or push-mog.
     #[arg(long, default_value = "push-mog")]
     policy: String,
-    /// Executor: ideal (plans applied exactly).
+    /// Executor: ideal (plans applied exactly) or sim (rapier3d physics).
     #[arg(long, default_value = "ideal")]
     executor: String,
+    /// Simulator settings as JSON (fields not given keep their defaults; `pushmog schema sim`).
+    #[arg(long)]
+    sim_settings: Option<PathBuf>,
+    /// Turn off the simulator's perception and actuation noise.
+    #[arg(long)]
+    noiseless: bool,
+    /// Write an HTML page that steps through the run trip by trip.
+    #[arg(long)]
+    replay: Option<PathBuf>,
     /// Seed of the policy's random choices.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -211,6 +220,8 @@ enum SchemaFormat {
     ObjectSet,
     /// Policy settings (`--settings` of `plan` and `run`).
     Policy,
+    /// Simulator settings (`--sim-settings` of `run`).
+    Sim,
 }
 
 fn main() -> ExitCode {

@@ -1,0 +1,340 @@
+//! A physics-simulated executor: fork pushes and multi-object grasps carried out by rapier3d on
+//! extruded prisms standing on a frictional table under gravity, so that objects per trip come from a
+//! physics engine that knows nothing of the planner's models.
+//!
+//! Each action is simulated on a short-lived *stage* (`world.rs`) holding the table, the gripper and
+//! the objects within `reach` of the action's path; objects further away cannot be touched and keep
+//! their poses. Stages are built in a fixed order from the state, so a run is deterministic: the same
+//! scene, settings and seed give the same run, bit for bit, on one build.
+//!
+//! - **Fork push** (the paper's five steps): fingers opened to the fork opening, placed above the
+//!   approach point with the jaw line across the push (with actuation noise), lowered until the
+//!   fingertips are at `push_height_fraction` of the object's height, moved along the planned path at
+//!   `push_speed`, raised.
+//! - **Grasp and trip**: jaws opened as planned above the grasp (with actuation noise), lowered to
+//!   `grasp_height`, closed at `jaw_speed` with at most `grip_force` per finger until they stop, lifted
+//!   by `lift`, left to settle; the objects lifted clear of the table are carried to the bin. Anything
+//!   dropped stays where physics leaves it.
+//! - **Perception**: an observation is the true planar poses plus Gaussian noise (seeded). Objects
+//!   tilted past `topple_angle` or whose outline has left the workspace cannot be planned for; they are
+//!   reported by [`Executor::lost`] and end the run when nothing else is left. Noise that would make two
+//!   observed outlines overlap is undone for one of them (a real segmentation never reports
+//!   interpenetrating objects).
+
+mod settings;
+mod world;
+
+use rapier3d_f64::math::{Rotation, Vector};
+
+use self::world::{Prism, Stage, StageSettings};
+use super::Executor;
+use crate::error::{Error, Result};
+use crate::geometry::overlap;
+use crate::grasp::Grasp;
+use crate::push::Push;
+use crate::random::SeededRng;
+use crate::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
+
+pub use settings::SimSettings;
+
+/// Executes plans in the physics simulator.
+#[derive(Clone, Debug)]
+pub struct Sim {
+    settings: SimSettings,
+    seed: u64,
+    rng: SeededRng,
+    prisms: Vec<Prism>,
+    workspace: Option<Workspace>,
+    gripper: Gripper,
+    lost: Vec<(ObjectId, &'static str)>,
+}
+
+impl Sim {
+    /// A simulator with these settings; `seed` drives perception and actuation noise.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn new(settings: SimSettings, seed: u64) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self {
+            settings,
+            seed,
+            rng: SeededRng::new(seed),
+            prisms: Vec::new(),
+            workspace: None,
+            gripper: Gripper::default(),
+            lost: Vec::new(),
+        })
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &SimSettings {
+        &self.settings
+    }
+
+    fn stage_settings(&self) -> StageSettings {
+        StageSettings {
+            friction_finger: self.settings.friction_finger,
+            friction_object: self.settings.friction_object,
+            friction_table: self.settings.friction_table,
+            finger_mass: self.settings.finger_mass,
+            finger_height: self.settings.finger_height,
+            time_step: self.settings.time_step,
+            contact_frequency: self.settings.contact_frequency,
+        }
+    }
+
+    /// Objects on the table within `reach` of the segment from `a` to `b` (planar), in state order.
+    fn near(&self, a: (f64, f64), b: (f64, f64)) -> Vec<usize> {
+        let reach = self.settings.reach;
+        (0..self.prisms.len())
+            .filter(|&i| {
+                let p = &self.prisms[i];
+                let (x, y) = (p.translation.x, p.translation.y);
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let length2 = dx * dx + dy * dy;
+                let t = if length2 > 0.0 {
+                    (((x - a.0) * dx + (y - a.1) * dy) / length2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let (cx, cy) = (a.0 + t * dx, a.1 + t * dy);
+                (x - cx).hypot(y - cy) <= reach
+            })
+            .collect()
+    }
+
+    /// Actuation noise: an offset in the plane and a yaw error.
+    fn actuation(&mut self) -> (f64, f64, f64) {
+        let s = &self.settings;
+        let (sp, sy) = (s.actuation_position, s.actuation_yaw);
+        (
+            sp * self.rng.normal(),
+            sp * self.rng.normal(),
+            sy * self.rng.normal(),
+        )
+    }
+
+    fn tallest(&self, members: &[usize]) -> f64 {
+        members
+            .iter()
+            .map(|&i| self.prisms[i].height)
+            .fold(0.0, f64::max)
+    }
+}
+
+impl Executor for Sim {
+    fn name(&self) -> &'static str {
+        "sim"
+    }
+
+    fn reset(&mut self, scene: &Scene) -> Result<()> {
+        self.rng = SeededRng::new(self.seed);
+        self.workspace = Some(scene.workspace().clone());
+        self.gripper = scene.gripper().clone();
+        self.lost.clear();
+        self.prisms = scene
+            .objects()
+            .iter()
+            .map(|o| {
+                let mass = o
+                    .mass
+                    .unwrap_or(self.settings.density * o.polygon.area() * o.height);
+                Prism {
+                    id: o.id,
+                    name: o.name.clone(),
+                    polygon: o.polygon.clone(),
+                    height: o.height,
+                    mass,
+                    translation: Vector::new(o.pose.x, o.pose.y, 0.0),
+                    rotation: Rotation::from_rotation_z(o.pose.yaw),
+                }
+            })
+            .collect();
+        Ok(())
+    }
+
+    fn push(&mut self, push: &Push) -> Result<()> {
+        let Some(target) = self.prisms.iter().position(|p| p.id == push.object) else {
+            return Ok(());
+        };
+        let (ex, ey, eyaw) = self.actuation();
+        let fork = &push.fork;
+        let start = (fork.approach.x + ex, fork.approach.y + ey);
+        let end = (fork.end.x + ex, fork.end.y + ey);
+        let members = self.near(start, end);
+        let tip = self.settings.push_height_fraction * self.prisms[target].height;
+        let above = self.tallest(&members) + 0.005;
+        let mut stage = Stage::new(
+            &self.prisms,
+            &members,
+            &self.gripper,
+            &self.stage_settings(),
+            start,
+            above,
+            fork.jaw_angle + eyaw,
+            fork.opening,
+        );
+        let speed = self.settings.vertical_speed;
+        stage.travel(Vector::new(0.0, 0.0, tip - above), speed);
+        stage.travel(
+            Vector::new(end.0 - start.0, end.1 - start.1, 0.0),
+            self.settings.push_speed,
+        );
+        stage.travel(Vector::new(0.0, 0.0, above - tip), speed);
+        stage.wait(0.05);
+        stage.write_back(&mut self.prisms);
+        Ok(())
+    }
+
+    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
+        let (ex, ey, eyaw) = self.actuation();
+        let jaws = &grasp.jaws;
+        let centre = (jaws.center.x + ex, jaws.center.y + ey);
+        let members = self.near(centre, centre);
+        let above = self.tallest(&members) + 0.005;
+        let s = self.settings.clone();
+        let mut stage = Stage::new(
+            &self.prisms,
+            &members,
+            &self.gripper,
+            &self.stage_settings(),
+            centre,
+            above,
+            jaws.angle + eyaw,
+            jaws.opening,
+        );
+        stage.travel(
+            Vector::new(0.0, 0.0, s.grasp_height - above),
+            s.vertical_speed,
+        );
+        let timeout = jaws.opening / s.jaw_speed + 0.5;
+        stage.close(s.jaw_speed, s.grip_force, timeout);
+        stage.wait(0.05);
+        stage.travel(Vector::new(0.0, 0.0, s.lift), s.vertical_speed);
+        stage.wait(s.settle);
+        stage.write_back(&mut self.prisms);
+        // Carried: lifted clear of the table (its lowest point at least half the lift up).
+        let clear = 0.5 * s.lift;
+        let mut carried = Vec::new();
+        self.prisms.retain(|p| {
+            let lowest = p
+                .polygon
+                .vertices()
+                .iter()
+                .flat_map(|v| [0.0, p.height].map(|z| (p.rotation * Vector::new(v.x, v.y, z)).z))
+                .fold(f64::INFINITY, f64::min)
+                + p.translation.z;
+            if lowest > clear {
+                carried.push(p.id);
+                false
+            } else {
+                true
+            }
+        });
+        // Anything else that left the stage upward and fell is back on the table by now.
+        Ok(carried)
+    }
+
+    fn observe(&mut self) -> Result<Scene> {
+        let workspace = self
+            .workspace
+            .clone()
+            .ok_or_else(|| Error::field("sim executor", "scene", "reset() was not called"))?;
+        let s = &self.settings;
+        let mut objects: Vec<Object> = Vec::new();
+        let mut truth: Vec<Object> = Vec::new();
+        self.lost.clear();
+        for prism in &self.prisms {
+            let outline = prism.outline();
+            let outside = outline
+                .vertices()
+                .iter()
+                .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
+            if prism.tilt() > s.topple_angle {
+                self.lost.push((prism.id, "toppled"));
+                continue;
+            }
+            if outside {
+                self.lost.push((prism.id, "outside the workspace"));
+                continue;
+            }
+            let pose = prism.planar_pose();
+            let object = Object {
+                id: prism.id,
+                name: prism.name.clone(),
+                polygon: prism.polygon.clone(),
+                pose,
+                height: prism.height,
+                mass: Some(prism.mass),
+            };
+            truth.push(object.clone());
+            let noisy = Pose::new(
+                pose.x + s.perception_position * self.rng.normal(),
+                pose.y + s.perception_position * self.rng.normal(),
+                pose.yaw + s.perception_yaw * self.rng.normal(),
+            );
+            objects.push(Object {
+                pose: noisy,
+                ..object
+            });
+        }
+        // Undo noise that made outlines overlap each other or leave the workspace; physics may also
+        // leave contacts a fraction of a millimetre deep, which a camera would not report either.
+        for k in 0..objects.len() {
+            let outline = objects[k].world_polygon();
+            let clashes = objects[..k].iter().any(|o| {
+                overlap(
+                    &o.world_polygon(),
+                    &outline,
+                    crate::scene::OVERLAP_TOLERANCE,
+                )
+            }) || outline
+                .vertices()
+                .iter()
+                .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
+            if clashes {
+                objects[k].pose = truth[k].pose;
+            }
+        }
+        separate(&mut objects, &workspace);
+        Scene::from_parts(workspace, self.gripper.clone(), objects)
+    }
+
+    fn lost(&self) -> Vec<(ObjectId, &'static str)> {
+        self.lost.clone()
+    }
+}
+
+/// Pushes apart observed outlines that still interpenetrate (physics contacts), each pair along the
+/// axis of largest separation, a little past touching; a bounded number of passes.
+fn separate(objects: &mut [Object], workspace: &Workspace) {
+    for _ in 0..20 {
+        let mut moved = false;
+        for a in 0..objects.len() {
+            for b in a + 1..objects.len() {
+                let (pa, pb) = (objects[a].world_polygon(), objects[b].world_polygon());
+                let (normal, separation) = crate::geometry::max_separation(&pa, &pb);
+                if separation < -crate::scene::OVERLAP_TOLERANCE / 2.0 {
+                    let shift = normal * (-separation / 2.0 + 1e-6);
+                    objects[a].pose.x -= shift.x;
+                    objects[a].pose.y -= shift.y;
+                    objects[b].pose.x += shift.x;
+                    objects[b].pose.y += shift.y;
+                    moved = true;
+                }
+            }
+        }
+        // Keep everything inside after the shifts.
+        for object in objects.iter_mut() {
+            let (lo, hi) = object.world_polygon().bounding_box();
+            let dx = (workspace.min[0] - lo.x).max(0.0) - (hi.x - workspace.max[0]).max(0.0);
+            let dy = (workspace.min[1] - lo.y).max(0.0) - (hi.y - workspace.max[1]).max(0.0);
+            object.pose.x += dx;
+            object.pose.y += dy;
+        }
+        if !moved {
+            return;
+        }
+    }
+}

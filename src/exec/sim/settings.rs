@@ -1,0 +1,169 @@
+//! Settings of the physics simulator, each default justified by a physical fact.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// Physical parameters, motions and noise of the simulated robot and table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimSettings {
+    /// Coulomb friction between a finger pad and an object. Default 0.4: the plates' value in the public
+    /// multi-object grasping simulation (`shared/reference/FACTS.md`).
+    pub friction_finger: f64,
+    /// Coulomb friction between two objects. Default 0.4: the Push-MOG objects carry frictional tape on
+    /// their faces, taken as grippy as the plates (the grasp model's value too).
+    pub friction_object: f64,
+    /// Coulomb friction between an object and the table. Default 0.3: plastic or wood on a laminate
+    /// table (handbook values 0.2–0.4). The public MOG simulation's 0.05 was chosen to make planar
+    /// sliding easy, not measured.
+    pub friction_table: f64,
+    /// Density of objects without a mass, kg/m³. Default 1000, as the grasp model.
+    pub density: f64,
+    /// Mass of each finger, kilograms. Default 0.05 (a 2F-85 fingertip and pad are tens of grams).
+    pub finger_mass: f64,
+    /// Height of each finger pad, metres. Default 0.04 (taller than the 30 mm objects).
+    pub finger_height: f64,
+    /// Squeezing force limit of the jaws, newtons. Default 20 (the 2F-85's lowest force setting).
+    pub grip_force: f64,
+    /// Closing speed of the jaws, m/s. Default 0.05 (within the 2F-85's 0.02–0.15 m/s).
+    pub jaw_speed: f64,
+    /// Speed of fork pushes, m/s. Default 0.05, as the time model.
+    pub push_speed: f64,
+    /// Vertical speed of the arm near the table, m/s. Default 0.1.
+    pub vertical_speed: f64,
+    /// Height of the fingertips above the table during a fork push, as a fraction of the pushed object's
+    /// height. Default 0.5 (the paper lowers the gripper to the object's mid-height).
+    pub push_height_fraction: f64,
+    /// Height of the fingertips above the table when grasping, metres. Default 0.002.
+    pub grasp_height: f64,
+    /// How high a grasp lifts, metres. Default 0.1.
+    pub lift: f64,
+    /// Time allowed for things to come to rest after closing and after lifting, seconds. Default 0.3.
+    pub settle: f64,
+    /// Simulation time step, seconds. Default 0.002 (500 Hz; objects move under 0.2 mm per step).
+    pub time_step: f64,
+    /// Natural frequency of rapier's soft contact constraints, hertz. Default 1000. A contact under
+    /// force `F` on a body of mass `m` sinks about `F / (m (2π f)²)`: rapier's default 30 Hz lets a
+    /// 20 N squeeze push a finger 19 mm into a 30 g object (seen here: the fingers closed through it),
+    /// 1000 Hz keeps that under 0.02 mm, as between rigid plastic parts.
+    pub contact_frequency: f64,
+    /// Objects within this distance of an action's path take part in its simulation; the rest cannot be
+    /// reached and stay as they are, metres. Default 0.12.
+    pub reach: f64,
+    /// Standard deviation of observed positions, metres. Default 0.002 (segmentation of an overhead RGB-D
+    /// image; a fixed calibration offset is not modelled).
+    pub perception_position: f64,
+    /// Standard deviation of observed yaws, radians. Default 0.035 (2°).
+    pub perception_yaw: f64,
+    /// Standard deviation of where the gripper actually goes, metres. Default 0.001.
+    pub actuation_position: f64,
+    /// Standard deviation of the gripper's actual yaw, radians. Default 0.0175 (1°).
+    pub actuation_yaw: f64,
+    /// Objects tilted more than this from upright count as toppled, radians. Default 0.35 (20°).
+    pub topple_angle: f64,
+}
+
+impl Default for SimSettings {
+    fn default() -> Self {
+        Self {
+            friction_finger: 0.4,
+            friction_object: 0.4,
+            friction_table: 0.3,
+            density: 1000.0,
+            finger_mass: 0.05,
+            finger_height: 0.04,
+            grip_force: 20.0,
+            jaw_speed: 0.05,
+            push_speed: 0.05,
+            vertical_speed: 0.1,
+            push_height_fraction: 0.5,
+            grasp_height: 0.002,
+            lift: 0.1,
+            settle: 0.3,
+            time_step: 0.002,
+            contact_frequency: 1000.0,
+            reach: 0.12,
+            perception_position: 0.002,
+            perception_yaw: 0.035,
+            actuation_position: 0.001,
+            actuation_yaw: 0.0175,
+            topple_angle: 0.35,
+        }
+    }
+}
+
+impl SimSettings {
+    /// The settings with every noise set to zero.
+    pub fn noiseless() -> Self {
+        Self {
+            perception_position: 0.0,
+            perception_yaw: 0.0,
+            actuation_position: 0.0,
+            actuation_yaw: 0.0,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let positive = [
+            ("density", self.density),
+            ("finger_mass", self.finger_mass),
+            ("finger_height", self.finger_height),
+            ("grip_force", self.grip_force),
+            ("jaw_speed", self.jaw_speed),
+            ("push_speed", self.push_speed),
+            ("vertical_speed", self.vertical_speed),
+            ("push_height_fraction", self.push_height_fraction),
+            ("lift", self.lift),
+            ("time_step", self.time_step),
+            ("contact_frequency", self.contact_frequency),
+            ("reach", self.reach),
+            ("topple_angle", self.topple_angle),
+        ];
+        for (field, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(Error::field(
+                    "sim",
+                    field,
+                    format!("must be a positive finite number, got {value}"),
+                ));
+            }
+        }
+        let non_negative = [
+            ("friction_finger", self.friction_finger),
+            ("friction_object", self.friction_object),
+            ("friction_table", self.friction_table),
+            ("grasp_height", self.grasp_height),
+            ("settle", self.settle),
+            ("perception_position", self.perception_position),
+            ("perception_yaw", self.perception_yaw),
+            ("actuation_position", self.actuation_position),
+            ("actuation_yaw", self.actuation_yaw),
+        ];
+        for (field, value) in non_negative {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::field(
+                    "sim",
+                    field,
+                    format!("must be a non-negative finite number, got {value}"),
+                ));
+            }
+        }
+        if self.time_step > 0.01 {
+            return Err(Error::field(
+                "sim",
+                "time_step",
+                format!(
+                    "at most 0.01 s keeps contacts stable, got {}",
+                    self.time_step
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
