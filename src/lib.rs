@@ -20,6 +20,7 @@
 //! - [`plan`]: what a run records, and [`plan::verify`], the independent checker.
 //! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors.
 //! - [`time_model`]: seconds per trip and per push, for objectives and picks per hour.
+//! - [`experiment`]: configurations, the parallel resumable runner, logs, tables and figures.
 //!
 //! ```
 //! use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
@@ -30,6 +31,7 @@
 pub mod cluster;
 pub mod error;
 pub mod exec;
+pub mod experiment;
 pub mod geometry;
 pub mod grasp;
 pub mod json;

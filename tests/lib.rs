@@ -4,6 +4,7 @@
 mod baselines;
 mod cli;
 mod clustering_milp;
+mod experiments;
 mod generator;
 mod geometry_properties;
 mod policies;

@@ -21,6 +21,7 @@
 //! row, or at the trip limit; it never loops forever.
 
 use std::str::FromStr;
+use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
@@ -214,6 +215,15 @@ pub struct Policy {
     multi: MultiObject,
 }
 
+/// Wall-clock planning times of one run, seconds.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunTiming {
+    /// Every planning attempt (clustering, pushes and grasp together).
+    pub planning: Vec<f64>,
+    /// Every clustering.
+    pub clustering: Vec<f64>,
+}
+
 /// One of the clusterers, chosen by the settings.
 #[derive(Clone, Debug)]
 enum AnyClusterer {
@@ -300,6 +310,21 @@ impl Policy {
     /// Misuse or an executor fault; a run that cannot clear the table ends with
     /// [`RunStatus::Stopped`] inside `Ok`.
     pub fn run(&self, scene: &Scene, executor: &mut dyn Executor, seed: u64) -> Result<Plan> {
+        self.run_timed(scene, executor, seed).map(|(plan, _)| plan)
+    }
+
+    /// As [`Policy::run`], also returning how long planning took (wall-clock, so not reproducible;
+    /// kept apart from the plan).
+    ///
+    /// # Errors
+    /// As [`Policy::run`].
+    pub fn run_timed(
+        &self,
+        scene: &Scene,
+        executor: &mut dyn Executor,
+        seed: u64,
+    ) -> Result<(Plan, RunTiming)> {
+        let mut timing = RunTiming::default();
         executor.reset(scene)?;
         let mut rng = SeededRng::new(seed);
         let max_trips =
@@ -349,10 +374,12 @@ impl Policy {
             if trips.len() >= max_trips {
                 break stop(format!("trip limit of {max_trips} reached"));
             }
+            let started = Instant::now();
             let draft = match self.kind {
                 PolicyKind::Sog => self.draft_single(&observed, &mut rng)?,
-                kind => self.draft_clustered(&observed, &mut rng, kind.pushes())?,
+                kind => self.draft_clustered(&observed, &mut rng, kind.pushes(), &mut timing)?,
             };
+            timing.planning.push(started.elapsed().as_secs_f64());
             let draft = match draft {
                 Ok(draft) => draft,
                 Err(reason) => {
@@ -388,16 +415,19 @@ impl Policy {
                         .sum::<f64>()
             })
             .sum();
-        Ok(Plan {
-            seconds,
-            policy: self.kind.name().to_string(),
-            executor: executor.name().to_string(),
-            seed,
-            settings: serde_json::to_value(&self.settings).unwrap_or_default(),
-            trips,
-            failed_attempts,
-            status,
-        })
+        Ok((
+            Plan {
+                seconds,
+                policy: self.kind.name().to_string(),
+                executor: executor.name().to_string(),
+                seed,
+                settings: serde_json::to_value(&self.settings).unwrap_or_default(),
+                trips,
+                failed_attempts,
+                status,
+            },
+            timing,
+        ))
     }
 
     fn draft_single(
@@ -430,8 +460,11 @@ impl Policy {
         observed: &Scene,
         rng: &mut SeededRng,
         with_pushes: bool,
+        timing: &mut RunTiming,
     ) -> Result<std::result::Result<Draft, String>> {
+        let started = Instant::now();
         let clustering = self.clusterer.get().cluster(observed)?.value;
+        timing.clustering.push(started.elapsed().as_secs_f64());
         let candidates: Vec<usize> = (0..clustering.len())
             .filter(|&k| {
                 clustering.clusters[k]

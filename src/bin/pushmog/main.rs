@@ -33,6 +33,19 @@ enum Command {
     CompareClustering(CompareArgs),
     /// Compare the paper's pushes against SOCP push targets on the same clusters; prints a Markdown table.
     ComparePushing(ComparePushingArgs),
+    /// Run an experiment configuration: every run logged, then its tables and figures.
+    Experiment(ExperimentArgs),
+    /// Join the logs of the shards of one experiment.
+    Merge {
+        /// Shard logs.
+        #[arg(required = true)]
+        logs: Vec<PathBuf>,
+        /// The merged log.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Rebuild the tables and figures of an experiment log.
+    Report(ReportArgs),
     /// Check a plan file with the independent verifier.
     Verify {
         /// Plan file written by `pushmog plan`.
@@ -195,6 +208,45 @@ struct ComparePushingArgs {
 }
 
 #[derive(Args, Debug)]
+struct ExperimentArgs {
+    /// The configuration (`experiments/<name>.toml`).
+    config: PathBuf,
+    /// Run only shard i of n (`--shard 0/4`): runs with number % n == i.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Worker threads (default: one per core).
+    #[arg(long, default_value_t = 0)]
+    jobs: usize,
+    /// The log (default: experiments/results/<name>.jsonl, or <name>.shard-i-of-n.jsonl).
+    #[arg(long)]
+    log: Option<PathBuf>,
+    /// Folder for the tables.
+    #[arg(long, default_value = "paper/tables")]
+    tables: PathBuf,
+    /// Folder for the figures.
+    #[arg(long, default_value = "paper/figures")]
+    figures: PathBuf,
+    /// Stop after this many new runs (the log resumes later).
+    #[arg(long)]
+    limit: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct ReportArgs {
+    /// The log.
+    log: PathBuf,
+    /// Folder for the tables.
+    #[arg(long, default_value = "paper/tables")]
+    tables: PathBuf,
+    /// Folder for the figures.
+    #[arg(long, default_value = "paper/figures")]
+    figures: PathBuf,
+}
+
+#[derive(Args, Debug)]
 struct RenderArgs {
     /// Scene or plan file (`-` for standard input).
     scene: PathBuf,
@@ -222,6 +274,8 @@ enum SchemaFormat {
     Policy,
     /// Simulator settings (`--sim-settings` of `run`).
     Sim,
+    /// Experiment configurations (TOML, same fields).
+    Experiment,
 }
 
 fn main() -> ExitCode {
@@ -234,6 +288,9 @@ fn main() -> ExitCode {
         Command::Verify { plan } => commands::verify(&plan),
         Command::CompareClustering(args) => commands::compare_clustering(&args),
         Command::Cluster(args) => commands::cluster(&args),
+        Command::Experiment(args) => commands::experiment(&args),
+        Command::Merge { logs, output } => commands::merge(&logs, &output),
+        Command::Report(args) => commands::report(&args.log, &args.tables, &args.figures),
         Command::ComparePushing(args) => commands::compare_pushing(&args),
         Command::Render(args) => commands::render(&args),
         Command::Schema { format } => commands::schema(format),

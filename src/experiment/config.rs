@@ -1,0 +1,342 @@
+//! Experiment configurations (TOML) and their expansion into a fixed, numbered list of runs.
+//!
+//! ```toml
+//! name = "paper"
+//! description = "The Push-MOG paper's setup"
+//! seed = 1                          # seeds every run's own choices and noise
+//! repetitions = 1                   # runs per (scene, policy, sweep value)
+//!
+//! [scenes]
+//! objects = [34]                    # one or more object counts
+//! count = 5                         # scenes per object count
+//! first_seed = 1                    # scene seeds first_seed, first_seed + 1, …
+//! workspace = [0.6, 0.45]           # metres, for 34 objects
+//! keep_density = true               # grow or shrink the workspace with the object count
+//! object_set = "builtin"            # or the path of an object-set JSON file
+//!
+//! [executor]
+//! kind = "sim"                      # or "ideal"
+//! noise = true                      # perception and actuation noise in the simulator
+//! settings = { grip_force = 20.0 }  # simulator settings (any subset)
+//!
+//! [sweep]
+//! bin_distance = [0.3]              # metres; each value is a variant of every run
+//!
+//! [[policies]]
+//! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
+//! settings = { }                    # policy settings (any subset)
+//! ```
+//!
+//! Runs are numbered in a fixed order — object count, scene, sweep value, policy, repetition — so a
+//! configuration always expands to the same list, which is what makes logs resumable and shardable.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::exec::SimSettings;
+use crate::policy::{PolicyKind, PolicySettings};
+use crate::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set};
+
+/// A whole experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentConfig {
+    /// Short name; logs and tables are named after it.
+    pub name: String,
+    /// What the experiment is for.
+    #[serde(default)]
+    pub description: String,
+    /// Seed of every run's own choices and noise (with the run's number).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Runs per scene, policy and sweep value.
+    #[serde(default = "default_one")]
+    pub repetitions: usize,
+    /// The scenes.
+    pub scenes: SceneConfig,
+    /// The executor.
+    #[serde(default)]
+    pub executor: ExecutorConfig,
+    /// Values swept over every run.
+    #[serde(default)]
+    pub sweep: SweepConfig,
+    /// The policies compared.
+    pub policies: Vec<PolicyConfig>,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+fn default_one() -> usize {
+    1
+}
+
+/// How scenes are made.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    /// Object counts.
+    pub objects: Vec<usize>,
+    /// Scenes per object count.
+    pub count: usize,
+    /// Seed of the first scene.
+    #[serde(default = "default_seed")]
+    pub first_seed: u64,
+    /// Workspace `[width, depth]` in metres for 34 objects. Default `[0.6, 0.45]`.
+    #[serde(default = "default_workspace")]
+    pub workspace: [f64; 2],
+    /// Scale the workspace by `√(n / 34)` for `n` objects, keeping the object density. Default true.
+    #[serde(default = "default_true")]
+    pub keep_density: bool,
+    /// `builtin` or the path of an object-set JSON file (relative to the configuration file).
+    #[serde(default = "default_object_set")]
+    pub object_set: String,
+}
+
+fn default_workspace() -> [f64; 2] {
+    [0.6, 0.45]
+}
+
+fn default_true() -> bool {
+    true
+}
+
+fn default_object_set() -> String {
+    "builtin".to_string()
+}
+
+/// Which executor carries the plans out.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ExecutorConfig {
+    /// `ideal` or `sim`.
+    #[serde(default)]
+    pub kind: ExecutorKind,
+    /// Perception and actuation noise in the simulator. Default true.
+    #[serde(default = "default_true")]
+    pub noise: bool,
+    /// Simulator settings.
+    #[serde(default)]
+    pub settings: SimSettings,
+}
+
+/// The executor kinds.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum ExecutorKind {
+    /// Plans applied exactly.
+    #[default]
+    Ideal,
+    /// The rapier3d simulator.
+    Sim,
+}
+
+/// Values swept over every run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SweepConfig {
+    /// Distances to the bin, metres; empty keeps the policies' own.
+    #[serde(default)]
+    pub bin_distance: Vec<f64>,
+}
+
+/// One policy of the comparison.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PolicyConfig {
+    /// The policy.
+    pub name: PolicyKind,
+    /// A label for tables (default: the policy's name).
+    #[serde(default)]
+    pub label: Option<String>,
+    /// Its settings.
+    #[serde(default)]
+    pub settings: PolicySettings,
+}
+
+impl PolicyConfig {
+    /// The label shown in tables.
+    pub fn label(&self) -> String {
+        self.label
+            .clone()
+            .unwrap_or_else(|| self.name.name().to_string())
+    }
+}
+
+/// One run of an experiment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSpec {
+    /// Position in the expanded list.
+    pub id: usize,
+    /// Object count.
+    pub objects: usize,
+    /// Scene seed.
+    pub scene_seed: u64,
+    /// Bin distance, when swept.
+    pub bin_distance: Option<f64>,
+    /// Index into `policies`.
+    pub policy: usize,
+    /// Repetition.
+    pub repetition: usize,
+    /// Seed of the run's own choices and noise.
+    pub run_seed: u64,
+}
+
+impl ExperimentConfig {
+    /// Reads and checks a configuration file.
+    ///
+    /// # Errors
+    /// [`Error::Io`] or [`Error::InvalidField`] naming the problem (TOML errors give line and column).
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = crate::json::read_text(path)?;
+        let config: Self = toml::from_str(&text).map_err(|e| {
+            Error::field(
+                path.display().to_string(),
+                "toml",
+                e.to_string().trim().replace('\n', " "),
+            )
+        })?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let component = format!("experiment `{}`", self.name);
+        if self.name.is_empty() || self.name.contains(['/', '\\']) {
+            return Err(Error::field(
+                component,
+                "name",
+                "must be a plain, non-empty file name",
+            ));
+        }
+        if self.scenes.objects.is_empty() || self.scenes.count == 0 {
+            return Err(Error::field(
+                component,
+                "scenes",
+                "needs object counts and count ≥ 1",
+            ));
+        }
+        if self.policies.is_empty() {
+            return Err(Error::field(
+                component,
+                "policies",
+                "needs at least one policy",
+            ));
+        }
+        if self.repetitions == 0 {
+            return Err(Error::field(component, "repetitions", "must be at least 1"));
+        }
+        if self
+            .sweep
+            .bin_distance
+            .iter()
+            .any(|d| !(d.is_finite() && *d >= 0.0))
+        {
+            return Err(Error::field(
+                component,
+                "sweep.bin_distance",
+                "must be non-negative metres",
+            ));
+        }
+        self.executor.settings.validate()?;
+        for policy in &self.policies {
+            policy.settings.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Every run, numbered.
+    pub fn runs(&self) -> Vec<RunSpec> {
+        let sweep: Vec<Option<f64>> = if self.sweep.bin_distance.is_empty() {
+            vec![None]
+        } else {
+            self.sweep.bin_distance.iter().copied().map(Some).collect()
+        };
+        let mut runs = Vec::new();
+        for &objects in &self.scenes.objects {
+            for scene in 0..self.scenes.count as u64 {
+                for &bin_distance in &sweep {
+                    for policy in 0..self.policies.len() {
+                        for repetition in 0..self.repetitions {
+                            let id = runs.len();
+                            runs.push(RunSpec {
+                                id,
+                                objects,
+                                scene_seed: self.scenes.first_seed + scene,
+                                bin_distance,
+                                policy,
+                                repetition,
+                                run_seed: self.seed.wrapping_mul(1_000_003).wrapping_add(id as u64),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        runs
+    }
+
+    /// The scene generator's settings for `objects` objects.
+    pub fn generator(&self, objects: usize) -> GeneratorSettings {
+        let [width, depth] = self.scenes.workspace;
+        let scale = if self.scenes.keep_density {
+            (objects as f64 / 34.0).sqrt()
+        } else {
+            1.0
+        };
+        GeneratorSettings {
+            objects,
+            workspace: Workspace::new(width * scale, depth * scale),
+            ..GeneratorSettings::default()
+        }
+    }
+
+    /// The object set, reading a file relative to `base` (the configuration's folder).
+    ///
+    /// # Errors
+    /// As reading and checking an object set.
+    pub fn object_set(&self, base: &Path) -> Result<ObjectSet> {
+        if self.scenes.object_set == "builtin" {
+            return Ok(builtin_object_set());
+        }
+        let path: PathBuf = base.join(&self.scenes.object_set);
+        let set: ObjectSet =
+            crate::json::from_json(&crate::json::read_text(&path)?, &path.display().to_string())?;
+        set.validate()?;
+        Ok(set)
+    }
+
+    /// The settings of `policy` for a run with this bin distance.
+    pub fn policy_settings(&self, policy: usize, bin_distance: Option<f64>) -> PolicySettings {
+        let mut settings = self.policies[policy].settings.clone();
+        if let Some(distance) = bin_distance {
+            settings.time_model.bin_distance = distance;
+        }
+        settings
+    }
+
+    /// The simulator's settings (noise removed when `noise` is off).
+    pub fn sim_settings(&self) -> SimSettings {
+        let settings = self.executor.settings.clone();
+        if self.executor.noise {
+            settings
+        } else {
+            SimSettings {
+                perception_position: 0.0,
+                perception_yaw: 0.0,
+                actuation_position: 0.0,
+                actuation_yaw: 0.0,
+                ..settings
+            }
+        }
+    }
+}

@@ -1,0 +1,262 @@
+//! Figures built only from logs (plotters, SVG backend: no system packages), and the data files the
+//! LaTeX write-up plots with pgfplots.
+
+use plotters::prelude::*;
+
+use super::log::Log;
+use super::tables::{PAPER_OPT, summarise};
+use crate::error::{Error, Result};
+
+const SIZE: (u32, u32) = (720, 440);
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(0x4e, 0x79, 0xa7),
+    RGBColor(0xf2, 0x8e, 0x2b),
+    RGBColor(0xe1, 0x57, 0x59),
+    RGBColor(0x59, 0xa1, 0x4f),
+    RGBColor(0xb0, 0x7a, 0xa1),
+    RGBColor(0x76, 0xb7, 0xb2),
+];
+
+fn plot_error<E: std::fmt::Display>(e: E) -> Error {
+    Error::field("figure", "plot", e.to_string())
+}
+
+/// Objects per trip per policy with one-standard-deviation error bars; the paper's physical figures as
+/// hollow markers where they exist.
+///
+/// # Errors
+/// A drawing failure.
+pub fn opt_per_policy_svg(log: &Log) -> Result<String> {
+    let groups = summarise(log);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let top = groups
+            .iter()
+            .map(|g| g.opt.0 + g.opt.1)
+            .chain(PAPER_OPT.iter().map(|p| p.1 + p.2))
+            .fold(1.0, f64::max)
+            * 1.15;
+        let names: Vec<String> = groups.iter().map(|g| g.policy.clone()).collect();
+        let count = names.len();
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!(
+                    "Objects per trip ({}, {} executor)",
+                    log.header.config.name,
+                    executor(log)
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(-0.5f64..(count as f64 - 0.5), 0.0f64..top)
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_labels(count.max(1))
+            .x_label_formatter(&|x| {
+                let k = x.round();
+                if (x - k).abs() < 1e-6 && k >= 0.0 {
+                    names.get(k as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            })
+            .y_desc("objects per trip")
+            .disable_x_mesh()
+            .draw()
+            .map_err(plot_error)?;
+        for (k, g) in groups.iter().enumerate() {
+            let colour = COLOURS[k % COLOURS.len()];
+            let x = k as f64 - 0.08;
+            let ours = chart
+                .draw_series(std::iter::once(ErrorBar::new_vertical(
+                    x,
+                    g.opt.0 - g.opt.1,
+                    g.opt.0,
+                    g.opt.0 + g.opt.1,
+                    colour.filled().stroke_width(2),
+                    12,
+                )))
+                .map_err(plot_error)?;
+            if k == 0 {
+                ours.label("pushmog, mean ± std over runs")
+                    .legend(|(px, py)| Circle::new((px + 8, py), 5, COLOURS[0].filled()));
+            }
+            if let Some(&(_, m, s)) = PAPER_OPT.iter().find(|p| p.0 == g.policy) {
+                let x = k as f64 + 0.12;
+                chart
+                    .draw_series(std::iter::once(ErrorBar::new_vertical(
+                        x,
+                        m - s,
+                        m,
+                        m + s,
+                        BLACK.stroke_width(1),
+                        8,
+                    )))
+                    .map_err(plot_error)?;
+                let paper = chart
+                    .draw_series(std::iter::once(Circle::new(
+                        (x, m),
+                        4,
+                        BLACK.stroke_width(1),
+                    )))
+                    .map_err(plot_error)?;
+                if g.policy == PAPER_OPT[0].0 {
+                    paper
+                        .label("Push-MOG paper, physical UR5")
+                        .legend(|(px, py)| Circle::new((px + 8, py), 4, BLACK.stroke_width(1)));
+                }
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(plot_error)?;
+        root.present().map_err(plot_error)?;
+    }
+    Ok(svg)
+}
+
+fn executor(log: &Log) -> &'static str {
+    match log.header.config.executor.kind {
+        super::config::ExecutorKind::Ideal => "ideal",
+        super::config::ExecutorKind::Sim => "sim",
+    }
+}
+
+/// One line per policy of `y(group)` against `x(group)`.
+fn lines_svg(
+    log: &Log,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    x: impl Fn(&super::tables::GroupSummary) -> f64,
+    y: impl Fn(&super::tables::GroupSummary) -> f64,
+    log_y: bool,
+) -> Result<String> {
+    let groups = summarise(log);
+    let mut policies: Vec<String> = Vec::new();
+    for g in &groups {
+        if !policies.contains(&g.policy) {
+            policies.push(g.policy.clone());
+        }
+    }
+    let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) =
+        (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
+    for g in &groups {
+        x_lo = x_lo.min(x(g));
+        x_hi = x_hi.max(x(g));
+        y_lo = y_lo.min(y(g));
+        y_hi = y_hi.max(y(g));
+    }
+    if !x_lo.is_finite() {
+        return Err(Error::field("figure", "log", "the log has no rows to plot"));
+    }
+    let x_pad = ((x_hi - x_lo) * 0.05).max(1e-3);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let x_range = (x_lo - x_pad)..(x_hi + x_pad);
+        macro_rules! draw {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                chart
+                    .configure_mesh()
+                    .x_desc(x_desc)
+                    .y_desc(y_desc)
+                    .draw()
+                    .map_err(plot_error)?;
+                for (k, policy) in policies.iter().enumerate() {
+                    let colour = COLOURS[k % COLOURS.len()];
+                    let points: Vec<(f64, f64)> = groups
+                        .iter()
+                        .filter(|g| &g.policy == policy)
+                        .map(|g| (x(g), y(g)))
+                        .collect();
+                    chart
+                        .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
+                        .map_err(plot_error)?
+                        .label(policy.clone())
+                        .legend(move |(px, py)| {
+                            PathElement::new(vec![(px, py), (px + 18, py)], colour.stroke_width(2))
+                        });
+                    chart
+                        .draw_series(
+                            points
+                                .into_iter()
+                                .map(|p| Circle::new(p, 3, colour.filled())),
+                        )
+                        .map_err(plot_error)?;
+                }
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(plot_error)?;
+            }};
+        }
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60);
+        if log_y {
+            let lo = (y_lo.max(1e-9) * 0.5).max(1e-9);
+            draw!(
+                builder
+                    .build_cartesian_2d(x_range, (lo..y_hi * 2.0).log_scale())
+                    .map_err(plot_error)?
+            );
+        } else {
+            draw!(
+                builder
+                    .build_cartesian_2d(x_range, 0.0..y_hi * 1.15)
+                    .map_err(plot_error)?
+            );
+        }
+        root.present().map_err(plot_error)?;
+    }
+    Ok(svg)
+}
+
+/// Picks per hour against the distance to the bin, one line per policy.
+///
+/// # Errors
+/// A drawing failure, or a log without rows.
+pub fn picks_per_hour_svg(log: &Log) -> Result<String> {
+    lines_svg(
+        log,
+        "Picks per hour against bin distance",
+        "distance to the bin (m)",
+        "picks per hour",
+        |g| g.bin_distance,
+        |g| g.picks_per_hour,
+        false,
+    )
+}
+
+/// Median clustering time against the number of objects, one line per policy (log scale).
+///
+/// # Errors
+/// A drawing failure, or a log without rows.
+pub fn planning_time_svg(log: &Log) -> Result<String> {
+    lines_svg(
+        log,
+        "Clustering time against object count",
+        "objects",
+        "median clustering time per trip (ms)",
+        |g| g.objects as f64,
+        |g| g.clustering_median * 1e3,
+        true,
+    )
+}

@@ -1,0 +1,315 @@
+//! Experiment logs: JSON Lines, one header line then one row per run, in run order.
+//!
+//! The header describes the log: format, crate version, git commit, machine, the effective
+//! configuration and its fingerprint, and the shard. Rows hold every figure of a run; wall-clock
+//! measurements are kept in the `timing` object so that everything else is reproducible. A log is
+//! always a prefix of its shard's runs in order: an interrupted experiment resumes after its last
+//! complete row, and a torn last line is dropped.
+
+use std::io::Write as _;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::config::ExperimentConfig;
+use crate::error::{Error, Result};
+
+/// Identifies the log format.
+pub const LOG_KIND: &str = "pushmog-experiment-log";
+/// Version of the row layout.
+pub const LOG_FORMAT: u32 = 1;
+
+/// The first line of a log.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogHeader {
+    /// Always [`LOG_KIND`].
+    pub kind: String,
+    /// Always [`LOG_FORMAT`].
+    pub format: u32,
+    /// pushmog's version.
+    pub crate_version: String,
+    /// The git commit of the working tree, when known.
+    pub git_commit: String,
+    /// Host name, cores and operating system.
+    pub machine: String,
+    /// Fingerprint of the configuration (logs of one configuration can be merged).
+    pub config_hash: String,
+    /// `[i, n]`: the `i`-th of `n` shards (runs with `id % n == i`); `[0, 1]` for a whole run.
+    pub shard: [usize; 2],
+    /// Runs in this shard.
+    pub runs: usize,
+    /// The effective configuration (every default filled in).
+    pub config: ExperimentConfig,
+}
+
+/// Wall-clock measurements of a run, seconds (not reproducible).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RowTiming {
+    /// Median planning time per attempt.
+    pub planning_median: f64,
+    /// 95th percentile of planning time per attempt.
+    pub planning_p95: f64,
+    /// Median clustering time per attempt (0 for policies that do not cluster).
+    pub clustering_median: f64,
+    /// Wall-clock time of the whole run (planning and execution).
+    pub wall: f64,
+}
+
+/// One run's figures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogRow {
+    /// Run number.
+    pub id: usize,
+    /// Object count.
+    pub objects: usize,
+    /// Scene seed.
+    pub scene_seed: u64,
+    /// Policy label.
+    pub policy: String,
+    /// Bin distance of the run's time model, metres.
+    pub bin_distance: f64,
+    /// Repetition.
+    pub repetition: usize,
+    /// Seed of the run's choices and noise.
+    pub run_seed: u64,
+    /// `ideal` or `sim`.
+    pub executor: String,
+    /// Trips made.
+    pub trips: usize,
+    /// Objects carried to the bin.
+    pub carried: usize,
+    /// Objects per trip.
+    pub objects_per_trip: f64,
+    /// Fork pushes made.
+    pub pushes: usize,
+    /// Total push distance, metres.
+    pub push_distance: f64,
+    /// Trips that carried nothing.
+    pub failed_grasps: usize,
+    /// Planning attempts that found no grasp.
+    pub failed_attempts: usize,
+    /// Whether the table was cleared.
+    pub cleared: bool,
+    /// Objects left, and why, when not cleared.
+    pub stop_reason: Option<String>,
+    /// Objects left on the table.
+    pub remaining: usize,
+    /// Robot time by the time model, seconds.
+    pub robot_seconds: f64,
+    /// Objects carried per hour of robot time.
+    pub picks_per_hour: f64,
+    /// Wall-clock measurements.
+    pub timing: RowTiming,
+}
+
+/// A log read from disk.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Log {
+    /// Its header.
+    pub header: LogHeader,
+    /// Its complete rows, in order.
+    pub rows: Vec<LogRow>,
+}
+
+/// A fingerprint of a configuration: FNV-1a over its canonical JSON.
+pub fn config_hash(config: &ExperimentConfig) -> String {
+    let text = serde_json::to_string(config).unwrap_or_default();
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for byte in text.bytes() {
+        hash ^= u64::from(byte);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{hash:016x}")
+}
+
+/// The machine, as one line: host name, logical cores, operating system.
+pub fn machine_description() -> String {
+    let host = std::fs::read_to_string("/etc/hostname")
+        .ok()
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "unknown-host".to_string());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!(
+        "{host}, {cores} cores, {} {}",
+        std::env::consts::OS,
+        std::env::consts::ARCH
+    )
+}
+
+/// The git commit of the current directory's repository, with `-dirty` appended when tracked
+/// files differ from it (the log then did not come from that commit alone), or `unknown`.
+pub fn git_commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let Some(commit) = git(&["rev-parse", "HEAD"]) else {
+        return "unknown".to_string();
+    };
+    match git(&["status", "--porcelain", "--untracked-files=no"]) {
+        Some(changes) if !changes.is_empty() => format!("{commit}-dirty"),
+        _ => commit,
+    }
+}
+
+/// Reads a log; a torn last line (an interrupted write) is ignored.
+///
+/// # Errors
+/// [`Error::Io`] or [`Error::Json`] for a missing file, a bad header or a bad complete row.
+pub fn read_log(path: &Path) -> Result<Log> {
+    let text = crate::json::read_text(path)?;
+    let name = path.display().to_string();
+    let mut lines = text.split_inclusive('\n');
+    let header_line = lines
+        .next()
+        .ok_or_else(|| Error::field(&name, "header", "the log is empty"))?;
+    let header: LogHeader = crate::json::from_json(header_line, &name)?;
+    if header.kind != LOG_KIND || header.format != LOG_FORMAT {
+        return Err(Error::field(
+            &name,
+            "header",
+            format!("not a pushmog log of format {LOG_FORMAT}"),
+        ));
+    }
+    let mut rows = Vec::new();
+    for (k, line) in lines.enumerate() {
+        if !line.ends_with('\n') {
+            break; // torn by an interruption
+        }
+        let row: LogRow = crate::json::from_json(line, &format!("{name} (row {})", k + 1))?;
+        rows.push(row);
+    }
+    Ok(Log { header, rows })
+}
+
+/// Appends lines to a log, flushing each so an interruption loses at most the line being written.
+pub struct LogWriter {
+    file: std::fs::File,
+    path: std::path::PathBuf,
+}
+
+impl LogWriter {
+    /// Starts a new log with `header`.
+    ///
+    /// # Errors
+    /// [`Error::Io`].
+    pub fn create(path: &Path, header: &LogHeader) -> Result<Self> {
+        crate::json::write_text(path, "")?;
+        let mut writer = Self::append(path)?;
+        writer.line(&serde_json::to_string(header).unwrap_or_default())?;
+        Ok(writer)
+    }
+
+    /// Continues an existing log after its last complete line (a torn line is cut off).
+    ///
+    /// # Errors
+    /// [`Error::Io`].
+    pub fn append(path: &Path) -> Result<Self> {
+        let io = |source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let text = std::fs::read_to_string(path).map_err(io)?;
+        let complete = text.rfind('\n').map_or(0, |k| k + 1);
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(io)?;
+        file.set_len(complete as u64).map_err(io)?;
+        let mut file = file;
+        use std::io::Seek as _;
+        file.seek(std::io::SeekFrom::End(0)).map_err(io)?;
+        Ok(Self {
+            file,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// Writes a row.
+    ///
+    /// # Errors
+    /// [`Error::Io`].
+    pub fn row(&mut self, row: &LogRow) -> Result<()> {
+        self.line(&serde_json::to_string(row).unwrap_or_default())
+    }
+
+    fn line(&mut self, text: &str) -> Result<()> {
+        let io = |source| Error::Io {
+            path: self.path.clone(),
+            source,
+        };
+        self.file.write_all(text.as_bytes()).map_err(io)?;
+        self.file.write_all(b"\n").map_err(io)?;
+        self.file.flush().map_err(io)
+    }
+}
+
+/// Joins the logs of the shards of one configuration into one log, rows in run order.
+///
+/// # Errors
+/// [`Error::InvalidField`] when the logs come from different configurations or a run appears twice
+/// with different figures; [`Error::Io`] and [`Error::Json`] from reading.
+pub fn merge_logs(paths: &[&Path]) -> Result<Log> {
+    let mut logs = paths
+        .iter()
+        .map(|p| read_log(p))
+        .collect::<Result<Vec<_>>>()?;
+    let Some(first) = logs.first() else {
+        return Err(Error::field("merge", "logs", "no logs given"));
+    };
+    let hash = first.header.config_hash.clone();
+    let mut header = first.header.clone();
+    let mut rows: Vec<LogRow> = Vec::new();
+    for (log, path) in logs.iter_mut().zip(paths) {
+        if log.header.config_hash != hash {
+            return Err(Error::field(
+                path.display().to_string(),
+                "config_hash",
+                "written by a different configuration than the first log",
+            ));
+        }
+        rows.append(&mut log.rows);
+    }
+    rows.sort_by_key(|r| r.id);
+    let mut merged: Vec<LogRow> = Vec::with_capacity(rows.len());
+    for row in rows {
+        match merged.last() {
+            Some(last) if last.id == row.id => {
+                let (mut a, mut b) = (last.clone(), row.clone());
+                a.timing = RowTiming::default();
+                b.timing = RowTiming::default();
+                if a != b {
+                    return Err(Error::field(
+                        "merge",
+                        "rows",
+                        format!("run {} appears twice with different figures", row.id),
+                    ));
+                }
+            }
+            _ => merged.push(row),
+        }
+    }
+    header.shard = [0, 1];
+    header.runs = header.config.runs().len();
+    Ok(Log {
+        header,
+        rows: merged,
+    })
+}
+
+/// Writes a whole log.
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_log(path: &Path, log: &Log) -> Result<()> {
+    let mut writer = LogWriter::create(path, &log.header)?;
+    for row in &log.rows {
+        writer.row(row)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,22 @@
+//! Experiments: every number the users publish comes from one command and a seed.
+//!
+//! `pushmog experiment experiments/<name>.toml` expands a configuration ([`ExperimentConfig`]) into a
+//! numbered list of runs, carries them out in parallel, appends one JSON Lines row per run to a log
+//! after a header describing the configuration, the code and the machine ([`log`]), and then builds
+//! tables ([`tables`]) and figures ([`figures`]) from the log alone. Logs resume after interruption,
+//! split into shards for batch schedulers, and merge back (`pushmog merge`). The log format is
+//! described in `experiments/README.md`.
+
+mod config;
+pub mod figures;
+pub mod log;
+mod report;
+mod runner;
+pub mod tables;
+
+pub use config::{
+    ExecutorConfig, ExecutorKind, ExperimentConfig, PolicyConfig, RunSpec, SceneConfig, SweepConfig,
+};
+pub use log::{Log, LogHeader, LogRow, merge_logs, read_log, write_log};
+pub use report::{ReportPaths, write_report};
+pub use runner::{RunReport, RunnerOptions, quantile, run_experiment, run_one};

@@ -1,0 +1,59 @@
+//! Writes every table and figure of a log: Markdown, CSV and LaTeX tables (results and, apart,
+//! wall-clock timing), SVG figures, and the example plan's drawing when there is one.
+
+use std::path::{Path, PathBuf};
+
+use super::figures::{opt_per_policy_svg, picks_per_hour_svg, planning_time_svg};
+use super::log::Log;
+use super::tables::{results_csv, results_latex, results_markdown, timing_csv, timing_markdown};
+use crate::error::Result;
+use crate::json::write_text;
+
+/// Where a report's files went.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReportPaths {
+    /// Every file written.
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes the tables of `log` to `tables` (as `<name>.md`, `.csv`, `.tex`, and `<name>-timing.*`)
+/// and its figures to `figures` (`<name>-opt.svg`, and the bin-distance or object-count plot when the
+/// log sweeps those).
+///
+/// # Errors
+/// I/O and drawing errors.
+pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPaths> {
+    let name = &log.header.config.name;
+    let mut files = Vec::new();
+    let mut put = |path: PathBuf, text: String| -> Result<()> {
+        write_text(&path, &text)?;
+        files.push(path);
+        Ok(())
+    };
+    put(tables.join(format!("{name}.md")), results_markdown(log))?;
+    put(tables.join(format!("{name}.csv")), results_csv(log))?;
+    put(tables.join(format!("{name}.tex")), results_latex(log))?;
+    put(
+        tables.join(format!("{name}-timing.md")),
+        timing_markdown(log),
+    )?;
+    put(tables.join(format!("{name}-timing.csv")), timing_csv(log))?;
+    put(
+        figures.join(format!("{name}-opt.svg")),
+        opt_per_policy_svg(log)?,
+    )?;
+    let config = &log.header.config;
+    if config.sweep.bin_distance.len() > 1 {
+        put(
+            figures.join(format!("{name}-picks-per-hour.svg")),
+            picks_per_hour_svg(log)?,
+        )?;
+    }
+    if config.scenes.objects.len() > 1 {
+        put(
+            figures.join(format!("{name}-planning-time.svg")),
+            planning_time_svg(log)?,
+        )?;
+    }
+    Ok(ReportPaths { files })
+}

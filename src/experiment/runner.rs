@@ -1,0 +1,258 @@
+//! Running an experiment: runs in parallel (rayon), rows written in run order, resumable, shardable,
+//! with a progress bar and an estimate of the time left.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+
+use super::config::{ExecutorKind, ExperimentConfig, RunSpec};
+use super::log::{
+    LOG_FORMAT, LOG_KIND, LogHeader, LogRow, LogWriter, RowTiming, config_hash, git_commit,
+    machine_description, read_log,
+};
+use crate::error::{Error, Result};
+use crate::exec::{Executor, Ideal, Sim};
+use crate::plan::{Plan, RunStatus};
+use crate::policy::Policy;
+use crate::scene::{ObjectSet, generate_scene};
+
+/// How to run an experiment.
+#[derive(Clone, Debug)]
+pub struct RunnerOptions {
+    /// The log to write (and resume).
+    pub log: PathBuf,
+    /// `(i, n)`: run only the runs with `id % n == i`.
+    pub shard: (usize, usize),
+    /// Worker threads (0: one per core).
+    pub jobs: usize,
+    /// Show a progress bar on standard error.
+    pub progress: bool,
+    /// Stop after this many new runs (to interrupt on purpose, e.g. in tests).
+    pub limit: Option<usize>,
+    /// Where to save the plan of the first run, for drawing.
+    pub example_plan: Option<PathBuf>,
+}
+
+/// Runs one experiment run.
+///
+/// # Errors
+/// Invalid settings or an executor fault.
+pub fn run_one(
+    config: &ExperimentConfig,
+    set: &ObjectSet,
+    spec: &RunSpec,
+) -> Result<(LogRow, Plan)> {
+    let started = Instant::now();
+    let scene = generate_scene(&config.generator(spec.objects), set, spec.scene_seed)?;
+    let settings = config.policy_settings(spec.policy, spec.bin_distance);
+    let bin_distance = settings.time_model.bin_distance;
+    let policy = Policy::new(config.policies[spec.policy].name, settings)?;
+    let mut executor: Box<dyn Executor> = match config.executor.kind {
+        ExecutorKind::Ideal => Box::new(Ideal::new(policy.settings().multi.model.clone())),
+        ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(), spec.run_seed)?),
+    };
+    let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
+    let (cleared, stop_reason, remaining) = match &plan.status {
+        RunStatus::Cleared => (true, None, 0),
+        RunStatus::Stopped { remaining, reason } => (false, Some(reason.clone()), remaining.len()),
+    };
+    let row = LogRow {
+        id: spec.id,
+        objects: spec.objects,
+        scene_seed: spec.scene_seed,
+        policy: config.policies[spec.policy].label(),
+        bin_distance,
+        repetition: spec.repetition,
+        run_seed: spec.run_seed,
+        executor: executor.name().to_string(),
+        trips: plan.trips.len(),
+        carried: plan.objects_carried(),
+        objects_per_trip: plan.objects_per_trip(),
+        pushes: plan.push_count(),
+        push_distance: plan.push_distance(),
+        failed_grasps: plan.failed_grasps(),
+        failed_attempts: plan.failed_attempts.len(),
+        cleared,
+        stop_reason,
+        remaining,
+        robot_seconds: plan.seconds,
+        picks_per_hour: plan.picks_per_hour(),
+        timing: RowTiming {
+            planning_median: quantile(&timing.planning, 0.5),
+            planning_p95: quantile(&timing.planning, 0.95),
+            clustering_median: quantile(&timing.clustering, 0.5),
+            wall: started.elapsed().as_secs_f64(),
+        },
+    };
+    Ok((row, plan))
+}
+
+/// A quantile by nearest rank; 0 for no values.
+pub fn quantile(values: &[f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// What [`run_experiment`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunReport {
+    /// Runs in the shard.
+    pub total: usize,
+    /// Runs already in the log when it started.
+    pub resumed: usize,
+    /// Runs made now.
+    pub made: usize,
+}
+
+/// Runs the configuration's runs of this shard that the log does not hold yet.
+///
+/// # Errors
+/// [`Error::InvalidField`] when the log belongs to another configuration or shard; run errors.
+pub fn run_experiment(
+    config: &ExperimentConfig,
+    config_dir: &Path,
+    options: &RunnerOptions,
+) -> Result<RunReport> {
+    let (shard, shards) = options.shard;
+    if shards == 0 || shard >= shards {
+        return Err(Error::field(
+            "experiment",
+            "--shard",
+            format!("shard {shard}/{shards} does not exist: use i/n with 0 ≤ i < n"),
+        ));
+    }
+    let set = config.object_set(config_dir)?;
+    let runs: Vec<RunSpec> = config
+        .runs()
+        .into_iter()
+        .filter(|r| r.id % shards == shard)
+        .collect();
+    let hash = config_hash(config);
+    let done = if options.log.exists() {
+        let log = read_log(&options.log)?;
+        if log.header.config_hash != hash || log.header.shard != [shard, shards] {
+            return Err(Error::field(
+                options.log.display().to_string(),
+                "header",
+                "this log was written by another configuration or shard; remove it or choose another output",
+            ));
+        }
+        for (row, spec) in log.rows.iter().zip(&runs) {
+            if row.id != spec.id {
+                return Err(Error::field(
+                    options.log.display().to_string(),
+                    "rows",
+                    format!("row {} is out of order (run {} expected)", row.id, spec.id),
+                ));
+            }
+        }
+        log.rows.len()
+    } else {
+        0
+    };
+    let mut writer = if done > 0 || options.log.exists() {
+        LogWriter::append(&options.log)?
+    } else {
+        LogWriter::create(
+            &options.log,
+            &LogHeader {
+                kind: LOG_KIND.to_string(),
+                format: LOG_FORMAT,
+                crate_version: env!("CARGO_PKG_VERSION").to_string(),
+                git_commit: git_commit(),
+                machine: machine_description(),
+                config_hash: hash,
+                shard: [shard, shards],
+                runs: runs.len(),
+                config: config.clone(),
+            },
+        )?
+    };
+    let pending: Vec<RunSpec> = runs
+        .iter()
+        .skip(done)
+        .take(options.limit.unwrap_or(usize::MAX))
+        .cloned()
+        .collect();
+    let bar = if options.progress {
+        let bar = ProgressBar::new(runs.len() as u64);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:30}] {pos}/{len} runs, {elapsed} spent, about {eta} left",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(config.name.clone());
+        bar.set_position(done as u64);
+        bar.reset_eta();
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.jobs)
+        .build()
+        .map_err(|e| Error::field("experiment", "--jobs", e.to_string()))?;
+    let (sender, receiver) = mpsc::channel::<(usize, Result<(LogRow, Plan)>)>();
+    let mut made = 0;
+    let mut first_error: Option<Error> = None;
+    std::thread::scope(|scope| -> Result<()> {
+        let set = &set;
+        let pending = &pending;
+        scope.spawn(move || {
+            pool.install(|| {
+                pending
+                    .par_iter()
+                    .enumerate()
+                    .for_each_with(sender, |tx, (k, spec)| {
+                        let _ = tx.send((k, run_one(config, set, spec)));
+                    });
+            });
+        });
+        // Write rows in run order as they complete.
+        let mut waiting: BTreeMap<usize, Result<(LogRow, Plan)>> = BTreeMap::new();
+        let mut next = 0;
+        for (k, result) in receiver {
+            waiting.insert(k, result);
+            while let Some(result) = waiting.remove(&next) {
+                next += 1;
+                match result {
+                    Ok((row, plan)) => {
+                        if first_error.is_none() {
+                            writer.row(&row)?;
+                            made += 1;
+                            if row.id == 0
+                                && let Some(path) = &options.example_plan
+                            {
+                                crate::json::write_text(path, &crate::json::to_json(&plan))?;
+                            }
+                        }
+                    }
+                    Err(e) => {
+                        first_error.get_or_insert(e);
+                    }
+                }
+                bar.inc(1);
+            }
+        }
+        Ok(())
+    })?;
+    bar.finish_and_clear();
+    if let Some(e) = first_error {
+        return Err(e);
+    }
+    Ok(RunReport {
+        total: runs.len(),
+        resumed: done,
+        made,
+    })
+}

@@ -1,0 +1,336 @@
+//! Tables built only from logs: per policy (and object count, and bin distance), the figures a paper
+//! reports, in Markdown, CSV and LaTeX. Wall-clock columns go to separate timing tables, so the result
+//! tables of one configuration and seed are byte-identical from run to run.
+
+use std::fmt::Write as _;
+
+use super::log::{Log, LogRow};
+use super::runner::quantile;
+
+/// The Push-MOG paper's physical results (UR5 + 2F-85, 5 scenes of 34 objects, bin adjacent): objects
+/// per trip, mean and standard deviation, by the policy they correspond to.
+pub const PAPER_OPT: [(&str, f64, f64); 3] = [
+    ("sog", 0.993, 0.014),
+    ("mog", 0.986, 0.038),
+    ("push-mog", 1.339, 0.145),
+];
+
+/// The figures of one group of runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroupSummary {
+    /// Policy label.
+    pub policy: String,
+    /// Object count.
+    pub objects: usize,
+    /// Bin distance, metres.
+    pub bin_distance: f64,
+    /// Runs in the group.
+    pub runs: usize,
+    /// Objects per trip: mean and sample standard deviation over runs.
+    pub opt: (f64, f64),
+    /// Mean trips.
+    pub trips: f64,
+    /// Mean pushes.
+    pub pushes: f64,
+    /// Mean total push distance, metres.
+    pub push_distance: f64,
+    /// Mean failed grasps.
+    pub failed_grasps: f64,
+    /// Runs that cleared the table.
+    pub cleared: usize,
+    /// Mean robot time, seconds.
+    pub robot_seconds: f64,
+    /// Mean picks per hour.
+    pub picks_per_hour: f64,
+    /// Median over runs of the median planning time, seconds (wall-clock).
+    pub planning_median: f64,
+    /// 95th percentile over runs of the 95th-percentile planning time, seconds (wall-clock).
+    pub planning_p95: f64,
+    /// Median over runs of the median clustering time, seconds (wall-clock).
+    pub clustering_median: f64,
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+fn mean_std(values: &[f64]) -> (f64, f64) {
+    let m = mean(values.iter().copied());
+    if values.len() < 2 {
+        return (m, 0.0);
+    }
+    let var = values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
+    (m, var.sqrt())
+}
+
+/// Groups rows by object count, bin distance and policy, in the configuration's order.
+pub fn summarise(log: &Log) -> Vec<GroupSummary> {
+    let order: Vec<String> = log
+        .header
+        .config
+        .policies
+        .iter()
+        .map(|p| p.label())
+        .collect();
+    let mut keys: Vec<(usize, u64, usize)> = Vec::new();
+    for row in &log.rows {
+        let policy = order
+            .iter()
+            .position(|p| *p == row.policy)
+            .unwrap_or(order.len());
+        let key = (row.objects, row.bin_distance.to_bits(), policy);
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys.sort_by(|a, b| {
+        a.0.cmp(&b.0)
+            .then(f64::from_bits(a.1).total_cmp(&f64::from_bits(b.1)))
+            .then(a.2.cmp(&b.2))
+    });
+    keys.into_iter()
+        .map(|(objects, bin, policy)| {
+            let label = order.get(policy).cloned().unwrap_or_default();
+            let rows: Vec<&LogRow> = log
+                .rows
+                .iter()
+                .filter(|r| {
+                    r.objects == objects && r.bin_distance.to_bits() == bin && r.policy == label
+                })
+                .collect();
+            let opt: Vec<f64> = rows.iter().map(|r| r.objects_per_trip).collect();
+            let medians: Vec<f64> = rows.iter().map(|r| r.timing.planning_median).collect();
+            let p95s: Vec<f64> = rows.iter().map(|r| r.timing.planning_p95).collect();
+            let clustering: Vec<f64> = rows.iter().map(|r| r.timing.clustering_median).collect();
+            GroupSummary {
+                policy: label,
+                objects,
+                bin_distance: f64::from_bits(bin),
+                runs: rows.len(),
+                opt: mean_std(&opt),
+                trips: mean(rows.iter().map(|r| r.trips as f64)),
+                pushes: mean(rows.iter().map(|r| r.pushes as f64)),
+                push_distance: mean(rows.iter().map(|r| r.push_distance)),
+                failed_grasps: mean(rows.iter().map(|r| r.failed_grasps as f64)),
+                cleared: rows.iter().filter(|r| r.cleared).count(),
+                robot_seconds: mean(rows.iter().map(|r| r.robot_seconds)),
+                picks_per_hour: mean(rows.iter().map(|r| r.picks_per_hour)),
+                planning_median: quantile(&medians, 0.5),
+                planning_p95: quantile(&p95s, 0.95),
+                clustering_median: quantile(&clustering, 0.5),
+            }
+        })
+        .collect()
+}
+
+/// The paper's figure for a group, when the group matches the paper's setup (34 objects, the bin
+/// beside the workspace: the default time model's 0.3 m).
+fn paper_reference(group: &GroupSummary) -> Option<(f64, f64)> {
+    let adjacent = crate::time_model::TimeModel::default().bin_distance;
+    if group.objects != 34 || (group.bin_distance - adjacent).abs() > 1e-9 {
+        return None;
+    }
+    PAPER_OPT
+        .iter()
+        .find(|(name, _, _)| *name == group.policy)
+        .map(|&(_, m, s)| (m, s))
+}
+
+/// Whether the groups differ in object count or bin distance (then those columns are shown).
+fn varies(groups: &[GroupSummary]) -> (bool, bool) {
+    let first = groups.first();
+    (
+        groups
+            .iter()
+            .any(|g| Some(g.objects) != first.map(|f| f.objects)),
+        groups
+            .iter()
+            .any(|g| Some(g.bin_distance.to_bits()) != first.map(|f| f.bin_distance.to_bits())),
+    )
+}
+
+/// The results table in Markdown (no wall-clock columns).
+pub fn results_markdown(log: &Log) -> String {
+    let groups = summarise(log);
+    let (by_objects, by_bin) = varies(&groups);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} — {} executor, {} runs",
+        log.header.config.name,
+        executor_name(log),
+        log.rows.len()
+    );
+    let _ = writeln!(out);
+    let mut head = String::from("| policy |");
+    let mut rule = String::from("|---|");
+    if by_objects {
+        head.push_str(" objects |");
+        rule.push_str("---:|");
+    }
+    if by_bin {
+        head.push_str(" bin distance (m) |");
+        rule.push_str("---:|");
+    }
+    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | cleared | robot time (s) | picks per hour |");
+    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(out, "{head}");
+    let _ = writeln!(out, "{rule}");
+    for g in &groups {
+        let mut line = format!("| {} |", g.policy);
+        if by_objects {
+            let _ = write!(line, " {} |", g.objects);
+        }
+        if by_bin {
+            let _ = write!(line, " {:.2} |", g.bin_distance);
+        }
+        let paper =
+            paper_reference(g).map_or("–".to_string(), |(m, s)| format!("{m:.3} ± {s:.3}"));
+        let _ = writeln!(
+            line,
+            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {}/{} | {:.1} | {:.0} |",
+            g.runs,
+            g.opt.0,
+            g.opt.1,
+            g.trips,
+            g.pushes,
+            g.push_distance,
+            g.failed_grasps,
+            g.cleared,
+            g.runs,
+            g.robot_seconds,
+            g.picks_per_hour
+        );
+        out.push_str(&line);
+    }
+    out
+}
+
+fn executor_name(log: &Log) -> &'static str {
+    match log.header.config.executor.kind {
+        super::config::ExecutorKind::Ideal => "ideal",
+        super::config::ExecutorKind::Sim => "sim",
+    }
+}
+
+/// The wall-clock table in Markdown (planning and clustering times; machine-dependent).
+pub fn timing_markdown(log: &Log) -> String {
+    let groups = summarise(log);
+    let mut out = format!(
+        "{} — planning times on {} (wall-clock, not reproducible)\n\n",
+        log.header.config.name, log.header.machine
+    );
+    out.push_str("| policy | objects | bin distance (m) | planning median (ms) | planning p95 (ms) | clustering median (ms) |\n");
+    out.push_str("|---|---:|---:|---:|---:|---:|\n");
+    for g in &groups {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.3} |",
+            g.policy,
+            g.objects,
+            g.bin_distance,
+            g.planning_median * 1e3,
+            g.planning_p95 * 1e3,
+            g.clustering_median * 1e3
+        );
+    }
+    out
+}
+
+/// The results as CSV (one line per group; no wall-clock columns).
+pub fn results_csv(log: &Log) -> String {
+    let mut out = String::from(
+        "policy,objects,bin_distance,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,cleared,robot_seconds,picks_per_hour\n",
+    );
+    for g in summarise(log) {
+        let paper = paper_reference(&g);
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{},{:.4},{:.4}",
+            g.policy,
+            g.objects,
+            g.bin_distance,
+            g.runs,
+            g.opt.0,
+            g.opt.1,
+            paper.map_or(String::new(), |(m, _)| format!("{m}")),
+            paper.map_or(String::new(), |(_, s)| format!("{s}")),
+            g.trips,
+            g.pushes,
+            g.push_distance,
+            g.failed_grasps,
+            g.cleared,
+            g.robot_seconds,
+            g.picks_per_hour
+        );
+    }
+    out
+}
+
+/// The wall-clock figures as CSV.
+pub fn timing_csv(log: &Log) -> String {
+    let mut out = String::from(
+        "policy,objects,bin_distance,planning_median,planning_p95,clustering_median\n",
+    );
+    for g in summarise(log) {
+        let _ = writeln!(
+            out,
+            "{},{},{},{:.9},{:.9},{:.9}",
+            g.policy,
+            g.objects,
+            g.bin_distance,
+            g.planning_median,
+            g.planning_p95,
+            g.clustering_median
+        );
+    }
+    out
+}
+
+fn tex(text: &str) -> String {
+    text.replace('_', "\\_")
+        .replace('%', "\\%")
+        .replace('&', "\\&")
+}
+
+/// The results as a LaTeX table body (booktabs), to `\input` in a `table` environment.
+pub fn results_latex(log: &Log) -> String {
+    let groups = summarise(log);
+    let (by_objects, by_bin) = varies(&groups);
+    let mut columns = String::from("l");
+    let mut head = String::from("Policy");
+    if by_objects {
+        columns.push('r');
+        head.push_str(" & Objects");
+    }
+    if by_bin {
+        columns.push('r');
+        head.push_str(" & Bin (m)");
+    }
+    columns.push_str("cccrrr");
+    head.push_str(" & OpT & Paper (UR5) & Trips & Pushes & Time (s) & Picks/h");
+    let mut out = format!(
+        "% Generated by `pushmog experiment` from {}; do not edit.\n\\begin{{tabular}}{{{columns}}}\n\\toprule\n{head} \\\\\n\\midrule\n",
+        tex(&log.header.config.name)
+    );
+    for g in &groups {
+        let mut line = tex(&g.policy);
+        if by_objects {
+            let _ = write!(line, " & {}", g.objects);
+        }
+        if by_bin {
+            let _ = write!(line, " & {:.2}", g.bin_distance);
+        }
+        let paper =
+            paper_reference(g).map_or("--".to_string(), |(m, s)| format!("${m:.3} \\pm {s:.3}$"));
+        let _ = writeln!(
+            line,
+            " & ${:.3} \\pm {:.3}$ & {paper} & {:.1} & {:.1} & {:.0} & {:.0} \\\\",
+            g.opt.0, g.opt.1, g.trips, g.pushes, g.robot_seconds, g.picks_per_hour
+        );
+        out.push_str(&line);
+    }
+    out.push_str("\\bottomrule\n\\end{tabular}\n");
+    out
+}

@@ -1,0 +1,192 @@
+//! The experiment runner: reproducible tables, resumable and shardable logs.
+
+use std::path::Path;
+
+use pushmog::experiment::tables::{results_csv, results_latex, results_markdown};
+use pushmog::experiment::{
+    ExperimentConfig, LogRow, RunnerOptions, merge_logs, read_log, run_experiment,
+};
+
+use crate::support::{pushmog, scratch};
+
+fn config(executor: &str) -> ExperimentConfig {
+    let text = format!(
+        r#"
+name = "tiny"
+seed = 4
+[scenes]
+objects = [8]
+count = 3
+first_seed = 2
+workspace = [0.6, 0.45]
+[executor]
+kind = "{executor}"
+[[policies]]
+name = "sog"
+[[policies]]
+name = "push-mog"
+"#
+    );
+    let config: ExperimentConfig = toml::from_str(&text).unwrap();
+    config.validate().unwrap();
+    config
+}
+
+fn options(log: &Path, shard: (usize, usize), limit: Option<usize>) -> RunnerOptions {
+    RunnerOptions {
+        log: log.to_path_buf(),
+        shard,
+        jobs: 2,
+        progress: false,
+        limit,
+        example_plan: None,
+    }
+}
+
+/// Rows without their wall-clock measurements.
+fn figures(rows: &[LogRow]) -> Vec<LogRow> {
+    rows.iter()
+        .map(|r| LogRow {
+            timing: Default::default(),
+            ..r.clone()
+        })
+        .collect()
+}
+
+#[test]
+fn the_same_config_and_seed_give_byte_identical_tables() {
+    let dir = scratch("experiment-tables");
+    let config = config("ideal");
+    let (a, b) = (dir.join("a.jsonl"), dir.join("b.jsonl"));
+    run_experiment(&config, Path::new("."), &options(&a, (0, 1), None)).unwrap();
+    run_experiment(&config, Path::new("."), &options(&b, (0, 1), None)).unwrap();
+    let (a, b) = (read_log(&a).unwrap(), read_log(&b).unwrap());
+    assert_eq!(a.rows.len(), 6);
+    assert_eq!(results_markdown(&a), results_markdown(&b));
+    assert_eq!(results_csv(&a), results_csv(&b));
+    assert_eq!(results_latex(&a), results_latex(&b));
+    assert_eq!(figures(&a.rows), figures(&b.rows));
+}
+
+#[test]
+fn an_interrupted_log_resumes_to_the_same_rows() {
+    let dir = scratch("experiment-resume");
+    let config = config("sim");
+    let whole = dir.join("whole.jsonl");
+    run_experiment(&config, Path::new("."), &options(&whole, (0, 1), None)).unwrap();
+    // Stop after two runs, tear the file in the middle of a line, then resume.
+    let broken = dir.join("broken.jsonl");
+    let first =
+        run_experiment(&config, Path::new("."), &options(&broken, (0, 1), Some(2))).unwrap();
+    assert_eq!(first.made, 2);
+    let mut text = std::fs::read_to_string(&broken).unwrap();
+    text.push_str("{\"id\": 2, \"objects\": 8, \"scene_se");
+    std::fs::write(&broken, text).unwrap();
+    let rest = run_experiment(&config, Path::new("."), &options(&broken, (0, 1), None)).unwrap();
+    assert_eq!((rest.resumed, rest.made), (2, 4));
+    let (whole, broken) = (read_log(&whole).unwrap(), read_log(&broken).unwrap());
+    assert_eq!(figures(&whole.rows), figures(&broken.rows));
+    assert_eq!(results_markdown(&whole), results_markdown(&broken));
+}
+
+#[test]
+fn shards_merge_into_the_whole() {
+    let dir = scratch("experiment-shards");
+    let config = config("ideal");
+    let whole = dir.join("whole.jsonl");
+    run_experiment(&config, Path::new("."), &options(&whole, (0, 1), None)).unwrap();
+    let shards: Vec<_> = (0..3)
+        .map(|i| {
+            let path = dir.join(format!("shard-{i}.jsonl"));
+            run_experiment(&config, Path::new("."), &options(&path, (i, 3), None)).unwrap();
+            path
+        })
+        .collect();
+    let paths: Vec<&Path> = shards.iter().map(|p| p.as_path()).collect();
+    let merged = merge_logs(&paths).unwrap();
+    assert_eq!(
+        figures(&merged.rows),
+        figures(&read_log(&whole).unwrap().rows)
+    );
+    // A log of another configuration is refused.
+    let other = dir.join("other.jsonl");
+    let mut changed = config.clone();
+    changed.seed = 5;
+    run_experiment(&changed, Path::new("."), &options(&other, (0, 1), None)).unwrap();
+    assert!(merge_logs(&[paths[0], other.as_path()]).is_err());
+    // Resuming a log with another configuration is refused too.
+    assert!(run_experiment(&changed, Path::new("."), &options(&whole, (0, 1), None)).is_err());
+}
+
+#[test]
+fn killing_the_command_midway_and_restarting_gives_the_same_log() {
+    let dir = scratch("experiment-kill");
+    let config_path = dir.join("tiny.toml");
+    std::fs::write(
+        &config_path,
+        "name = \"tiny\"\nseed = 3\n[scenes]\nobjects = [10]\ncount = 4\n[executor]\nkind = \"sim\"\n\
+         [[policies]]\nname = \"sog\"\n[[policies]]\nname = \"push-mog\"\n",
+    )
+    .unwrap();
+    let log = |name: &str| dir.join(name);
+    let run = |log_path: &Path| {
+        pushmog(&[
+            "experiment",
+            config_path.to_str().unwrap(),
+            "--log",
+            log_path.to_str().unwrap(),
+            "--tables",
+            dir.join("tables").to_str().unwrap(),
+            "--figures",
+            dir.join("figures").to_str().unwrap(),
+            "--quiet",
+        ])
+    };
+    assert_eq!(run(&log("whole.jsonl")).status.code(), Some(0));
+    // Start, kill it hard after a moment, restart.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_pushmog"))
+        .args([
+            "experiment",
+            config_path.to_str().unwrap(),
+            "--log",
+            log("killed.jsonl").to_str().unwrap(),
+            "--quiet",
+            "--jobs",
+            "1",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    let _ = child.kill();
+    let _ = child.wait();
+    assert_eq!(run(&log("killed.jsonl")).status.code(), Some(0));
+    let whole = read_log(&log("whole.jsonl")).unwrap();
+    let killed = read_log(&log("killed.jsonl")).unwrap();
+    assert_eq!(figures(&whole.rows), figures(&killed.rows));
+    assert!(dir.join("tables/tiny.md").exists());
+    assert!(dir.join("figures/tiny-opt.svg").exists());
+}
+
+#[test]
+fn bad_configurations_are_refused_with_the_field() {
+    let dir = scratch("experiment-bad");
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        "name = \"bad\"\n[scenes]\nobjects = []\ncount = 1\n[[policies]]\nname = \"sog\"\n",
+    )
+    .unwrap();
+    let output = pushmog(&["experiment", path.to_str().unwrap(), "--quiet"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("scenes"));
+    std::fs::write(
+        &path,
+        "name = \"bad\"\n[scenes]\nobjects = [5]\ncount = 1\n[[policies]]\nname = \"greedy\"\n",
+    )
+    .unwrap();
+    let output = pushmog(&["experiment", path.to_str().unwrap(), "--quiet"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("greedy"));
+}
