@@ -137,8 +137,9 @@ pub fn machine_description() -> String {
     )
 }
 
-/// The git commit of the current directory's repository, with `-dirty` appended when tracked
-/// files differ from it (the log then did not come from that commit alone), or `unknown`.
+/// The git commit of the current directory's repository, with `-dirty` appended when the code
+/// (`src/`, `Cargo.toml`, `Cargo.lock`) differs from it, so a log never claims a commit its code did
+/// not come from; `unknown` outside a repository. Logs and tables are outputs and do not count.
 pub fn git_commit() -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
@@ -151,7 +152,15 @@ pub fn git_commit() -> String {
     let Some(commit) = git(&["rev-parse", "HEAD"]) else {
         return "unknown".to_string();
     };
-    match git(&["status", "--porcelain", "--untracked-files=no"]) {
+    match git(&[
+        "status",
+        "--porcelain",
+        "--untracked-files=no",
+        "--",
+        "src",
+        "Cargo.toml",
+        "Cargo.lock",
+    ]) {
         Some(changes) if !changes.is_empty() => format!("{commit}-dirty"),
         _ => commit,
     }
