@@ -90,6 +90,35 @@ pub enum Error {
         /// Workspace depth (y extent) in metres.
         depth: f64,
     },
+    /// A robot motion was refused before anything was sent: it leaves the safety envelope or exceeds
+    /// the speed limit.
+    #[error("step {step} ({label}) refused before sending anything: {reason}")]
+    UnsafeMotion {
+        /// Index of the refused step in the step list (0-based).
+        step: usize,
+        /// The step's description.
+        label: String,
+        /// What limit it breaks.
+        reason: String,
+    },
+    /// The robot link stopped mid-run: a lost connection, a gripper fault or a timeout. Nothing was
+    /// sent after the failing step.
+    #[error(
+        "robot stopped at step {step} ({label}): {reason}; {completed} step(s) completed; last known \
+         state: {last_state}"
+    )]
+    RobotStopped {
+        /// Index of the failing step (0-based).
+        step: usize,
+        /// The step's description.
+        label: String,
+        /// What went wrong.
+        reason: String,
+        /// Steps completed before it.
+        completed: usize,
+        /// The last state read from the controller and the gripper.
+        last_state: String,
+    },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {

@@ -12,3 +12,4 @@ mod pushing_socp;
 mod scene_json;
 mod sim;
 mod support;
+mod ur5;

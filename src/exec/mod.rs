@@ -2,11 +2,12 @@
 //!
 //! The closed loop talks to an [`Executor`] only: it resets it to a scene, asks for pushes and grasps,
 //! and observes the table after each trip. [`Ideal`] applies plans exactly (a planner's own
-//! prediction); [`Sim`] carries them out in a physics engine (`sim/`); a UR5 executor arrives in its own
-//! issue.
+//! prediction); [`Sim`] carries them out in a physics engine (`sim/`); [`ur5::Ur5`] drives a real UR5 with a
+//! Robotiq 2F-85 over the controller's own interfaces (`ur5/`).
 
 mod ideal;
 pub mod sim;
+pub mod ur5;
 
 use crate::error::Result;
 use crate::grasp::Grasp;

@@ -42,7 +42,7 @@ fn read_input(path: &Path) -> Result<(String, String)> {
     }
 }
 
-fn read_scene(path: &Path) -> Result<Scene> {
+pub(crate) fn read_scene(path: &Path) -> Result<Scene> {
     let (text, name) = read_input(path)?;
     json::scene_from_json(&text, &name)
 }
@@ -130,7 +130,7 @@ fn check_report(scene: &Scene, name: &str) -> String {
     out
 }
 
-fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
+pub(crate) fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
     let kind: PolicyKind = name.parse()?;
     let settings = match settings {
         Some(path) => {
@@ -200,7 +200,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
 }
 
 /// The figures of a run, one per line.
-fn summary(plan: &Plan, objects: usize) -> String {
+pub(crate) fn summary(plan: &Plan, objects: usize) -> String {
     let mut out = format!(
         "policy {} (executor {}, seed {})\n",
         plan.policy, plan.executor, plan.seed
@@ -558,6 +558,10 @@ pub fn schema(format: SchemaFormat) -> Result<()> {
         }
         SchemaFormat::Experiment => {
             serde_json::to_value(schemars::schema_for!(ExperimentConfig)).unwrap_or_default()
+        }
+        SchemaFormat::Robot => {
+            serde_json::to_value(schemars::schema_for!(pushmog::exec::ur5::RobotConfig))
+                .unwrap_or_default()
         }
     };
     print!("{}", to_json(&schema));

@@ -4,6 +4,7 @@
 //! error (clap's convention).
 
 mod commands;
+mod execute;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -46,6 +47,9 @@ enum Command {
     },
     /// Rebuild the tables and figures of an experiment log.
     Report(ReportArgs),
+    /// Carry a plan out on a UR5 with a Robotiq 2F-85: a dry run by default (URScript, step list and
+    /// tool-path drawing written, nothing sent); `--execute` drives the robot.
+    Execute(ExecuteArgs),
     /// Check a plan file with the independent verifier.
     Verify {
         /// Plan file written by `pushmog plan`.
@@ -164,6 +168,40 @@ struct RunArgs {
 }
 
 #[derive(Args, Debug)]
+struct ExecuteArgs {
+    /// Plan file written by `pushmog plan` or `pushmog run --plan` (open loop: every trip in turn).
+    /// Without it, `--observe-file` or `--observe-command` gives the table and the run is closed-loop.
+    plan: Option<PathBuf>,
+    /// Robot configuration (TOML; see `robots/ur5-example.toml`, `pushmog schema robot`).
+    #[arg(long)]
+    robot: PathBuf,
+    /// Only write what would be sent (the default).
+    #[arg(long, conflicts_with = "execute")]
+    dry_run: bool,
+    /// Send it to the robot. Without this flag nothing moves.
+    #[arg(long)]
+    execute: bool,
+    /// Folder for the dry run's program.script, steps.txt and tool-path.svg.
+    #[arg(long, default_value = "out/ur5")]
+    out: PathBuf,
+    /// Closed loop: a scene JSON file read again after every trip.
+    #[arg(long, conflicts_with_all = ["plan", "observe_command"])]
+    observe_file: Option<PathBuf>,
+    /// Closed loop: a shell command that prints a scene JSON document, run after every trip.
+    #[arg(long, conflicts_with = "plan")]
+    observe_command: Option<String>,
+    /// Policy of the closed loop.
+    #[arg(long, default_value = "push-mog")]
+    policy: String,
+    /// Policy settings as JSON (fields not given keep their defaults).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Seed of the policy's random choices.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+}
+
+#[derive(Args, Debug)]
 struct ClusterArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
@@ -276,6 +314,8 @@ enum SchemaFormat {
     Sim,
     /// Experiment configurations (TOML, same fields).
     Experiment,
+    /// Robot configurations of `execute` (TOML, same fields).
+    Robot,
 }
 
 fn main() -> ExitCode {
@@ -286,6 +326,7 @@ fn main() -> ExitCode {
         Command::Plan(args) => commands::plan(&args),
         Command::Run(args) => commands::run(&args),
         Command::Verify { plan } => commands::verify(&plan),
+        Command::Execute(args) => execute::execute(&args),
         Command::CompareClustering(args) => commands::compare_clustering(&args),
         Command::Cluster(args) => commands::cluster(&args),
         Command::Experiment(args) => commands::experiment(&args),

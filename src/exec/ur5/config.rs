@@ -1,0 +1,394 @@
+//! The robot configuration file (TOML): where the controller is, how the table sits in the robot's
+//! base frame, heights, speeds, the gripper's calibration and the safety envelope.
+//!
+//! Every length is in metres, every speed in m/s, every acceleration in m/s², every time in seconds.
+//! `robots/ur5-example.toml` is a commented example; `pushmog schema robot` prints the JSON Schema of
+//! the same structure.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::calibration::{Calibration, Correspondence};
+use crate::error::{Error, Result};
+
+/// Everything the UR5 executor needs to know about one robot cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RobotConfig {
+    /// Where the controller listens.
+    #[serde(default)]
+    pub controller: ControllerConfig,
+    /// Table-to-base calibration from measured point pairs.
+    pub calibration: CalibrationConfig,
+    /// The tool centre point: the fingertip centre relative to the flange, as a UR pose
+    /// `[x, y, z, rx, ry, rz]` (metres, axis-angle radians). Measure it; it is sent with `set_tcp`.
+    pub tcp: [f64; 6],
+    /// Heights above the table.
+    #[serde(default)]
+    pub heights: HeightsConfig,
+    /// Speeds and accelerations of the motions.
+    #[serde(default)]
+    pub speeds: SpeedsConfig,
+    /// Where the bin is.
+    pub bin: BinConfig,
+    /// The Robotiq gripper.
+    #[serde(default)]
+    pub gripper: GripperConfig,
+    /// Limits checked before anything is sent.
+    pub safety: SafetyConfig,
+    /// How long to wait for each thing.
+    #[serde(default)]
+    pub timeouts: TimeoutsConfig,
+}
+
+/// Network addresses of the controller's interfaces.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct ControllerConfig {
+    /// Host name or IP address of the controller. Default `192.168.1.10`.
+    pub host: String,
+    /// Secondary interface, where URScript programs are sent. Default 30002.
+    pub script_port: u16,
+    /// RTDE interface, where the robot's state is read. Default 30004.
+    pub rtde_port: u16,
+    /// Robotiq URCap socket on the controller. Default 63352.
+    pub gripper_port: u16,
+    /// Output integer register the programs write when a motion is done (24–47 are the ones kept free
+    /// for external RTDE clients). Default 24.
+    pub done_register: u8,
+    /// RTDE output frequency asked for, Hz. Default 125 (every controller generation offers it).
+    pub rtde_frequency: f64,
+}
+
+impl Default for ControllerConfig {
+    fn default() -> Self {
+        Self {
+            host: "192.168.1.10".to_string(),
+            script_port: 30002,
+            rtde_port: 30004,
+            gripper_port: 63352,
+            done_register: 24,
+            rtde_frequency: 125.0,
+        }
+    }
+}
+
+/// Table-to-base calibration: points whose table coordinates are known (marks on the table) and
+/// whose base coordinates were read from the pendant with the tool centre point touching them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationConfig {
+    /// Three or more pairs, not all on one line.
+    pub points: Vec<Correspondence>,
+    /// Largest acceptable root-mean-square residual of the fit, metres. Default 0.003.
+    #[serde(default = "default_max_residual")]
+    pub max_residual: f64,
+}
+
+fn default_max_residual() -> f64 {
+    0.003
+}
+
+/// Heights of the motions above the table surface, metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct HeightsConfig {
+    /// Height of the table surface above the plane of the calibration points (0 when the points were
+    /// touched on the table itself). Default 0.
+    pub table: f64,
+    /// Clearance above the tallest object for travel moves. Default 0.05.
+    pub clearance: f64,
+    /// Height of the fingertips above the table when the jaws close for a grasp. Default 0.005.
+    pub grasp: f64,
+    /// Fraction of an object's height at which a fork push touches it (the paper: mid-height).
+    /// Default 0.5.
+    pub push_fraction: f64,
+    /// When set, every object's height instead of the heights in the plan's scenes.
+    pub object_height: Option<f64>,
+}
+
+impl Default for HeightsConfig {
+    fn default() -> Self {
+        Self {
+            table: 0.0,
+            clearance: 0.05,
+            grasp: 0.005,
+            push_fraction: 0.5,
+            object_height: None,
+        }
+    }
+}
+
+/// Speeds and accelerations of the tool, m/s and m/s².
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpeedsConfig {
+    /// Travel between poses above the table. Default 0.25 (typical of public UR code).
+    pub travel: f64,
+    /// Acceleration of travel moves. Default 1.2.
+    pub travel_acceleration: f64,
+    /// Descents to and rises from the table. Default 0.1.
+    pub vertical: f64,
+    /// The straight line of a fork push. Default 0.05 (slow enough for quasi-static pushing).
+    pub push: f64,
+    /// Acceleration of descents, rises and pushes. Default 0.5.
+    pub contact_acceleration: f64,
+}
+
+impl Default for SpeedsConfig {
+    fn default() -> Self {
+        Self {
+            travel: 0.25,
+            travel_acceleration: 1.2,
+            vertical: 0.1,
+            push: 0.05,
+            contact_acceleration: 0.5,
+        }
+    }
+}
+
+/// The bin: where the tool goes to drop what it holds, in the base frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BinConfig {
+    /// Tool centre point above the bin when the jaws open, `[x, y, z]` in the base frame, metres.
+    pub drop: [f64; 3],
+}
+
+/// The Robotiq 2F-85 and its calibration (position counts against the gap between the pads).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct GripperConfig {
+    /// Position count read when fully open (after activation, about 3). Default 3.
+    pub open_count: u8,
+    /// Gap between the pads measured when fully open, metres. Default 0.085.
+    pub open_gap: f64,
+    /// Position count read when fully closed on nothing (about 230). Default 230.
+    pub closed_count: u8,
+    /// Gap between the pads when fully closed, metres. Default 0.
+    pub closed_gap: f64,
+    /// Thickness of each pad plate along the closing axis, metres: plans give openings between plate
+    /// centres, which are gap + thickness. Default 0.010.
+    pub plate_thickness: f64,
+    /// Closing speed, 0–255. Default 128.
+    pub speed: u8,
+    /// Grip force, 0–255. Default 100.
+    pub force: u8,
+}
+
+impl Default for GripperConfig {
+    fn default() -> Self {
+        Self {
+            open_count: 3,
+            open_gap: 0.085,
+            closed_count: 230,
+            closed_gap: 0.0,
+            plate_thickness: 0.010,
+            speed: 128,
+            force: 100,
+        }
+    }
+}
+
+impl GripperConfig {
+    /// The position count that leaves `opening` metres between the plate centres, by linear
+    /// interpolation between the two calibration readings, clamped to them.
+    pub fn count_for_opening(&self, opening: f64) -> u8 {
+        let gap = opening - self.plate_thickness;
+        let t = ((gap - self.open_gap) / (self.closed_gap - self.open_gap)).clamp(0.0, 1.0);
+        let count = f64::from(self.open_count)
+            + t * (f64::from(self.closed_count) - f64::from(self.open_count));
+        count.round().clamp(0.0, 255.0) as u8
+    }
+
+    /// The opening between plate centres, metres, at a position count (the inverse of
+    /// [`GripperConfig::count_for_opening`], not clamped).
+    pub fn opening_at(&self, count: u8) -> f64 {
+        let t = (f64::from(count) - f64::from(self.open_count))
+            / (f64::from(self.closed_count) - f64::from(self.open_count));
+        self.open_gap + t * (self.closed_gap - self.open_gap) + self.plate_thickness
+    }
+}
+
+/// The safety envelope: every commanded pose and speed is checked against it before sending.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SafetyConfig {
+    /// Lower corner of the box the tool centre point must stay in, base frame, metres.
+    pub min: [f64; 3],
+    /// Upper corner of the box, base frame, metres.
+    pub max: [f64; 3],
+    /// Largest tool speed any motion may command, m/s.
+    pub max_speed: f64,
+}
+
+/// Time limits, seconds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct TimeoutsConfig {
+    /// Opening a connection. Default 3.
+    pub connect: f64,
+    /// Waiting for one reply of the gripper socket or one RTDE package. Default 2.
+    pub reply: f64,
+    /// Waiting for the gripper to activate or finish a move. Default 5.
+    pub gripper: f64,
+    /// Added to a motion's expected duration before it counts as timed out. Default 5.
+    pub motion_margin: f64,
+}
+
+impl Default for TimeoutsConfig {
+    fn default() -> Self {
+        Self {
+            connect: 3.0,
+            reply: 2.0,
+            gripper: 5.0,
+            motion_margin: 5.0,
+        }
+    }
+}
+
+impl RobotConfig {
+    /// Reads and checks a TOML configuration file.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be read, [`Error::InvalidField`] for a parse error or a bad
+    /// value (the message names the field).
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Parses and checks a configuration; `name` says where it came from in error messages.
+    ///
+    /// # Errors
+    /// As [`RobotConfig::load`].
+    pub fn from_toml(text: &str, name: &str) -> Result<Self> {
+        let config: Self =
+            toml::from_str(text).map_err(|e| Error::field(name, "toml", e.to_string()))?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Checks every value and that the calibration fits within `calibration.max_residual`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &str, reason: String| Err(Error::field("robot config", field, reason));
+        let positive = [
+            ("speeds.travel", self.speeds.travel),
+            (
+                "speeds.travel_acceleration",
+                self.speeds.travel_acceleration,
+            ),
+            ("speeds.vertical", self.speeds.vertical),
+            ("speeds.push", self.speeds.push),
+            (
+                "speeds.contact_acceleration",
+                self.speeds.contact_acceleration,
+            ),
+            ("safety.max_speed", self.safety.max_speed),
+            ("controller.rtde_frequency", self.controller.rtde_frequency),
+            ("timeouts.connect", self.timeouts.connect),
+            ("timeouts.reply", self.timeouts.reply),
+            ("timeouts.gripper", self.timeouts.gripper),
+            ("calibration.max_residual", self.calibration.max_residual),
+        ];
+        for (field, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return bad(field, format!("must be a positive number, got {value}"));
+            }
+        }
+        let non_negative = [
+            ("heights.clearance", self.heights.clearance),
+            ("heights.grasp", self.heights.grasp),
+            ("timeouts.motion_margin", self.timeouts.motion_margin),
+            ("gripper.plate_thickness", self.gripper.plate_thickness),
+            ("gripper.closed_gap", self.gripper.closed_gap),
+        ];
+        for (field, value) in non_negative {
+            if !(value.is_finite() && value >= 0.0) {
+                return bad(field, format!("must be a number ≥ 0, got {value}"));
+            }
+        }
+        if !self.heights.table.is_finite() {
+            return bad("heights.table", "must be finite".to_string());
+        }
+        if !(0.0..=1.0).contains(&self.heights.push_fraction) {
+            return bad(
+                "heights.push_fraction",
+                format!("must lie in [0, 1], got {}", self.heights.push_fraction),
+            );
+        }
+        if let Some(h) = self.heights.object_height
+            && !(h.is_finite() && h > 0.0)
+        {
+            return bad(
+                "heights.object_height",
+                format!("must be positive, got {h}"),
+            );
+        }
+        if self.gripper.closed_count <= self.gripper.open_count {
+            return bad(
+                "gripper.closed_count",
+                format!(
+                    "must exceed open_count ({}), got {}",
+                    self.gripper.open_count, self.gripper.closed_count
+                ),
+            );
+        }
+        if !(self.gripper.open_gap.is_finite() && self.gripper.open_gap > self.gripper.closed_gap) {
+            return bad(
+                "gripper.open_gap",
+                format!(
+                    "must exceed closed_gap ({}), got {}",
+                    self.gripper.closed_gap, self.gripper.open_gap
+                ),
+            );
+        }
+        if self.tcp.iter().any(|v| !v.is_finite()) {
+            return bad("tcp", "every entry must be finite".to_string());
+        }
+        for axis in 0..3 {
+            if !(self.safety.min[axis].is_finite()
+                && self.safety.max[axis].is_finite()
+                && self.safety.min[axis] < self.safety.max[axis])
+            {
+                return bad(
+                    "safety",
+                    format!("min[{axis}] must be below max[{axis}] and both finite"),
+                );
+            }
+        }
+        if self.bin.drop.iter().any(|v| !v.is_finite()) {
+            return bad("bin.drop", "every entry must be finite".to_string());
+        }
+        let calibration = self.calibration()?;
+        if calibration.rms_residual > self.calibration.max_residual {
+            return bad(
+                "calibration.points",
+                format!(
+                    "the fit's RMS residual {:.2} mm exceeds max_residual {:.2} mm (largest {:.2} \
+                     mm at point {}); re-measure the points",
+                    calibration.rms_residual * 1e3,
+                    self.calibration.max_residual * 1e3,
+                    calibration.max_residual * 1e3,
+                    calibration.worst_point
+                ),
+            );
+        }
+        Ok(())
+    }
+
+    /// The table-to-base transform fitted to the calibration points.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] for fewer than three points or points on one line.
+    pub fn calibration(&self) -> Result<Calibration> {
+        Calibration::fit(&self.calibration.points)
+    }
+}

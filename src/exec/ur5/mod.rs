@@ -1,0 +1,332 @@
+//! The UR5 + Robotiq 2F-85 executor: plans become robot motions over the controller's own interfaces.
+//!
+//! - [`RobotConfig`] (`config.rs`): the cell, read from TOML; [`Calibration`] (`calibration.rs`) fits
+//!   the table-to-base transform to measured point pairs by least squares and reports the residual.
+//! - [`Translator`] (`motion.rs`): fork pushes (five steps) and grasps with their trips (six steps) as
+//!   tool moves and gripper commands in the base frame, checked against the safety envelope.
+//! - `urscript.rs`: each motion step as one URScript program; the listings of a dry run.
+//! - [`RobotLink`] (`link.rs`): [`DryRun`] records, [`Live`] talks to the secondary interface (30002),
+//!   RTDE (30004) and the Robotiq URCap socket (63352). `rtde.rs` holds the RTDE packages.
+//! - [`fake`]: loopback fakes of the controller and the gripper that speak the same protocols, with
+//!   scripted faults; the tests drive whole plans through them.
+//! - [`Ur5`]: an [`Executor`] over a link and an observation source, for the closed loop;
+//!   [`execute_plan`] runs a recorded plan open-loop.
+//!
+//! Safety: every step is checked against the envelope before any byte of it is sent (a whole plan
+//! before its first step; in the closed loop, each push or grasp before its own steps). After a fault
+//! (lost connection, gripper fault, timeout) nothing more is sent: the error names the step reached
+//! and the last known state. The geometry is written out in `formulations/ur5.md`.
+
+mod calibration;
+mod config;
+pub mod fake;
+mod link;
+mod motion;
+mod rtde;
+mod tool_path;
+mod urscript;
+
+use std::path::PathBuf;
+
+pub use calibration::{Calibration, Correspondence};
+pub use config::{
+    BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, RobotConfig,
+    SafetyConfig, SpeedsConfig, TimeoutsConfig,
+};
+pub use link::{DryRun, Fault, Live, RobotLink};
+pub use motion::{Action, LinearMove, Step, ToolPose, Translator, move_duration};
+pub use rtde::RobotState;
+pub use tool_path::tool_path_svg;
+pub use urscript::{gripper_command, listing, program, step_list};
+
+use crate::error::{Error, Result};
+use crate::exec::Executor;
+use crate::grasp::Grasp;
+use crate::plan::Plan;
+use crate::push::Push;
+use crate::scene::{ObjectId, Scene};
+
+/// Where observations of the table come from between trips.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Observation {
+    /// A scene JSON file, read again after each trip (a perception pipeline rewrites it).
+    File(PathBuf),
+    /// A shell command that prints a scene JSON document (run with `sh -c`).
+    Command(String),
+}
+
+impl Observation {
+    /// Reads the table once.
+    ///
+    /// # Errors
+    /// I/O, a failing command, or an invalid scene.
+    pub fn read(&self) -> Result<Scene> {
+        match self {
+            Self::File(path) => crate::json::read_scene(path),
+            Self::Command(command) => {
+                let output = std::process::Command::new("sh")
+                    .args(["-c", command])
+                    .output()
+                    .map_err(|source| Error::Io {
+                        path: PathBuf::from(command),
+                        source,
+                    })?;
+                if !output.status.success() {
+                    return Err(Error::field(
+                        "observation command",
+                        command.clone(),
+                        format!(
+                            "exited with {}: {}",
+                            output.status,
+                            String::from_utf8_lossy(&output.stderr).trim()
+                        ),
+                    ));
+                }
+                let text = String::from_utf8_lossy(&output.stdout);
+                crate::json::scene_from_json(&text, command)
+            }
+        }
+    }
+}
+
+/// Carries out robot steps over a link, numbering them, checking them and stopping for good at the
+/// first fault.
+#[derive(Debug)]
+pub struct StepRunner<L: RobotLink> {
+    translator: Translator,
+    link: L,
+    steps: Vec<Step>,
+    next_token: Option<i32>,
+    stopped: Option<String>,
+    progress: Option<fn(usize, &Step)>,
+}
+
+impl<L: RobotLink> StepRunner<L> {
+    /// A runner for a translator's configuration over `link`.
+    pub fn new(translator: Translator, link: L) -> Self {
+        Self {
+            translator,
+            link,
+            steps: Vec::new(),
+            next_token: None,
+            stopped: None,
+            progress: None,
+        }
+    }
+
+    /// Calls `report(index, step)` after each step completes (a command line prints it).
+    #[must_use]
+    pub fn with_progress(mut self, report: fn(usize, &Step)) -> Self {
+        self.progress = Some(report);
+        self
+    }
+
+    /// The translator.
+    pub fn translator(&self) -> &Translator {
+        &self.translator
+    }
+
+    /// The link.
+    pub fn link(&self) -> &L {
+        &self.link
+    }
+
+    /// Every step carried out so far, in order.
+    pub fn steps(&self) -> &[Step] {
+        &self.steps
+    }
+
+    /// Checks `steps` against the envelope, then carries them out one by one.
+    ///
+    /// # Errors
+    /// [`Error::UnsafeMotion`] before anything is sent; [`Error::RobotStopped`] at the first fault,
+    /// after which every later call fails at once without sending.
+    pub fn run(&mut self, steps: Vec<Step>) -> Result<()> {
+        let first = self.steps.len();
+        if let Some(reason) = &self.stopped {
+            return Err(Error::RobotStopped {
+                step: first,
+                label: steps.first().map_or_else(String::new, |s| s.label.clone()),
+                reason: format!("not sent: the robot stopped earlier ({reason})"),
+                completed: first,
+                last_state: self.link.last_state(),
+            });
+        }
+        self.translator.check(&steps, first)?;
+        for step in steps {
+            let index = self.steps.len();
+            let outcome = match &step.action {
+                Action::Move { moves } => {
+                    let token = *self
+                        .next_token
+                        .get_or_insert_with(|| self.link.first_token());
+                    self.next_token = Some(token.wrapping_add(1).max(1));
+                    let expected = self.expected_duration(moves);
+                    let text =
+                        program(self.translator.config(), &step, index, token).unwrap_or_default();
+                    self.link.run_program(&text, token, expected)
+                }
+                Action::Gripper { position, .. } => {
+                    let command = gripper_command(&step).unwrap_or_default();
+                    self.link.run_gripper(&command, *position).map(|_| ())
+                }
+            };
+            if let Err(reason) = outcome {
+                self.stopped = Some(reason.clone());
+                return Err(Error::RobotStopped {
+                    step: index,
+                    label: step.label,
+                    reason,
+                    completed: index,
+                    last_state: self.link.last_state(),
+                });
+            }
+            if let Some(report) = self.progress {
+                report(index, &step);
+            }
+            self.steps.push(step);
+        }
+        Ok(())
+    }
+
+    fn expected_duration(&self, moves: &[LinearMove]) -> f64 {
+        let mut total = 0.0;
+        let mut from: Option<[f64; 3]> = self.last_position();
+        for m in moves {
+            // From an unknown pose, assume a move across the whole envelope.
+            let length = from.map_or_else(
+                || {
+                    let s = &self.translator.config().safety;
+                    (0..3)
+                        .map(|i| (s.max[i] - s.min[i]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                },
+                |f| {
+                    (0..3)
+                        .map(|i| (m.to.position[i] - f[i]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                },
+            );
+            total += move_duration(length, m.speed, m.acceleration);
+            from = Some(m.to.position);
+        }
+        total
+    }
+
+    fn last_position(&self) -> Option<[f64; 3]> {
+        self.steps.iter().rev().find_map(|s| match &s.action {
+            Action::Move { moves } => moves.last().map(|m| m.to.position),
+            Action::Gripper { .. } => None,
+        })
+    }
+}
+
+/// Translates every trip of a recorded plan, checks all steps against the envelope, then carries them
+/// out in order (open loop: no observation between trips).
+///
+/// # Errors
+/// [`Error::UnsafeMotion`] before anything is sent, [`Error::RobotStopped`] at the first fault.
+pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Result<()> {
+    let steps = plan_steps(runner.translator(), plan)?;
+    runner.translator().check(&steps, runner.steps().len())?;
+    runner.run(steps)
+}
+
+/// Every robot step of a recorded plan.
+///
+/// # Errors
+/// [`Error::InvalidField`] when a trip's scene is invalid.
+pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
+    let mut steps = Vec::new();
+    for (t, trip) in plan.trips.iter().enumerate() {
+        let scene = Scene::new(trip.scene.clone())?;
+        steps.extend(translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1));
+    }
+    Ok(steps)
+}
+
+/// The UR5 as an [`Executor`] for the closed loop: pushes and grasps go to the link; after each trip
+/// the table is observed again and the objects gone from it count as carried.
+///
+/// Observations must keep object ids from one to the next (tracking is the perception side's job).
+#[derive(Debug)]
+pub struct Ur5<L: RobotLink> {
+    runner: StepRunner<L>,
+    observation: Observation,
+    scene: Option<Scene>,
+    trips: usize,
+    pushes_this_trip: usize,
+}
+
+impl<L: RobotLink> Ur5<L> {
+    /// An executor over `runner` that reads the table from `observation`.
+    pub fn new(runner: StepRunner<L>, observation: Observation) -> Self {
+        Self {
+            runner,
+            observation,
+            scene: None,
+            trips: 0,
+            pushes_this_trip: 0,
+        }
+    }
+
+    /// The step runner (steps carried out, the link).
+    pub fn runner(&self) -> &StepRunner<L> {
+        &self.runner
+    }
+
+    fn scene(&self) -> Result<&Scene> {
+        self.scene
+            .as_ref()
+            .ok_or_else(|| Error::field("ur5 executor", "scene", "reset() was not called"))
+    }
+}
+
+impl<L: RobotLink> Executor for Ur5<L> {
+    fn name(&self) -> &'static str {
+        "ur5"
+    }
+
+    fn reset(&mut self, scene: &Scene) -> Result<()> {
+        self.scene = Some(scene.clone());
+        Ok(())
+    }
+
+    fn push(&mut self, push: &Push) -> Result<()> {
+        self.pushes_this_trip += 1;
+        let name = format!("trip {}, push {}", self.trips + 1, self.pushes_this_trip);
+        let steps = self
+            .runner
+            .translator()
+            .fork_push(self.scene()?, push, &name);
+        self.runner.run(steps)
+    }
+
+    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
+        self.trips += 1;
+        self.pushes_this_trip = 0;
+        let name = format!("trip {}, grasp", self.trips);
+        let steps = self
+            .runner
+            .translator()
+            .grasp_and_trip(self.scene()?, grasp, &name);
+        self.runner.run(steps)?;
+        let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();
+        let after = self.observation.read()?;
+        let carried = before
+            .into_iter()
+            .filter(|id| after.objects().iter().all(|o| o.id != *id))
+            .collect();
+        self.scene = Some(after);
+        Ok(carried)
+    }
+
+    fn observe(&mut self) -> Result<Scene> {
+        if self.scene.is_none() {
+            self.scene = Some(self.observation.read()?);
+        }
+        Ok(self.scene()?.clone())
+    }
+}

@@ -1,0 +1,331 @@
+//! Plan steps as robot steps: every fork push and every grasp with its trip becomes a short list of
+//! tool motions and gripper commands in the robot's base frame.
+//!
+//! - Fork push (the paper's five steps): open to the fork opening (30 % of the stroke), move above
+//!   the start, descend to the object's mid-height, push in a straight line to the end, rise.
+//! - Grasp and trip (six steps): move above the grasp, open fully, descend, close with limited force,
+//!   move to the bin (straight up first, then across), open to drop.
+//!
+//! The tool points down with the jaws' closing axis along the plan's jaw angle. With the tool frame's
+//! y axis taken as the closing axis (the 2F-85 mounted as Robotiq documents it; `yaw_offset` otherwise),
+//! the tool orientation in the base frame is `R · Rz(θ) · Rx(π)` with `R` the table-to-base rotation
+//! and `θ = jaw angle − π/2`, folded into (−π/2, π/2] since the jaws are symmetric, which keeps wrist
+//! turns short.
+
+use nalgebra::{Point3, Rotation3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::calibration::Calibration;
+use super::config::RobotConfig;
+use crate::error::{Error, Result};
+use crate::grasp::Grasp;
+use crate::push::Push;
+use crate::scene::{ObjectId, Scene};
+
+/// A tool pose in the base frame in the controller's own form: position in metres and an axis-angle
+/// rotation vector in radians.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToolPose {
+    /// Position of the tool centre point, metres.
+    pub position: [f64; 3],
+    /// Rotation vector (axis × angle), radians.
+    pub rotation: [f64; 3],
+}
+
+/// One straight-line move of the tool.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinearMove {
+    /// Where the tool goes.
+    pub to: ToolPose,
+    /// Tool speed, m/s.
+    pub speed: f64,
+    /// Tool acceleration, m/s².
+    pub acceleration: f64,
+}
+
+/// What one step does.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Action {
+    /// Straight-line moves run in order by one URScript program.
+    Move {
+        /// The moves.
+        moves: Vec<LinearMove>,
+    },
+    /// A gripper command through the URCap socket; the step waits until the fingers stop.
+    Gripper {
+        /// Requested position count (0 open … 255 closed).
+        position: u8,
+        /// Speed, 0–255.
+        speed: u8,
+        /// Force, 0–255.
+        force: u8,
+    },
+}
+
+/// One robot step with a readable label (`trip 2, push 1 of 3: descend to mid-height`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    /// What the step is for.
+    pub label: String,
+    /// What it does.
+    pub action: Action,
+}
+
+/// Turns plan steps into robot steps for one configuration.
+#[derive(Clone, Debug)]
+pub struct Translator {
+    config: RobotConfig,
+    calibration: Calibration,
+}
+
+impl Translator {
+    /// A translator for `config`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when the configuration is invalid.
+    pub fn new(config: RobotConfig) -> Result<Self> {
+        config.validate()?;
+        let calibration = config.calibration()?;
+        Ok(Self {
+            config,
+            calibration,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RobotConfig {
+        &self.config
+    }
+
+    /// The fitted calibration.
+    pub fn calibration(&self) -> &Calibration {
+        &self.calibration
+    }
+
+    fn height_of(&self, scene: &Scene, id: ObjectId) -> f64 {
+        self.config.heights.object_height.unwrap_or_else(|| {
+            scene
+                .objects()
+                .iter()
+                .find(|o| o.id == id)
+                .map_or(0.0, |o| o.height)
+        })
+    }
+
+    /// Travel height above the table: the tallest object plus the clearance.
+    fn travel_height(&self, scene: &Scene) -> f64 {
+        let tallest = self
+            .config
+            .heights
+            .object_height
+            .unwrap_or_else(|| scene.objects().iter().map(|o| o.height).fold(0.0, f64::max));
+        tallest + self.config.heights.clearance
+    }
+
+    /// A tool pose above table point (x, y) at height z over the table, jaws along `jaw_angle`.
+    pub fn tool_pose(&self, x: f64, y: f64, z: f64, jaw_angle: f64) -> ToolPose {
+        let position = self
+            .calibration
+            .to_base(x, y, z + self.config.heights.table);
+        let mut yaw = jaw_angle - std::f64::consts::FRAC_PI_2;
+        yaw = yaw.rem_euclid(std::f64::consts::PI);
+        if yaw > std::f64::consts::FRAC_PI_2 {
+            yaw -= std::f64::consts::PI;
+        }
+        let orientation = self.calibration.rotation
+            * Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
+        // The quaternion's logarithm keeps the axis at half-turns, where the rotation matrix's
+        // antisymmetric part (and so `Rotation3::scaled_axis`) vanishes; a tool pointing down is one.
+        let rv = UnitQuaternion::from_rotation_matrix(&orientation).scaled_axis();
+        ToolPose {
+            position: [position.x, position.y, position.z],
+            rotation: [rv.x, rv.y, rv.z],
+        }
+    }
+
+    fn travel(&self, to: ToolPose) -> LinearMove {
+        LinearMove {
+            to,
+            speed: self.config.speeds.travel,
+            acceleration: self.config.speeds.travel_acceleration,
+        }
+    }
+
+    fn contact(&self, to: ToolPose, speed: f64) -> LinearMove {
+        LinearMove {
+            to,
+            speed,
+            acceleration: self.config.speeds.contact_acceleration,
+        }
+    }
+
+    fn moves(label: String, moves: Vec<LinearMove>) -> Step {
+        Step {
+            label,
+            action: Action::Move { moves },
+        }
+    }
+
+    fn gripper(&self, label: String, position: u8) -> Step {
+        Step {
+            label,
+            action: Action::Gripper {
+                position,
+                speed: self.config.gripper.speed,
+                force: self.config.gripper.force,
+            },
+        }
+    }
+
+    /// The five steps of a fork push planned on `scene`; `name` prefixes the labels.
+    pub fn fork_push(&self, scene: &Scene, push: &Push, name: &str) -> Vec<Step> {
+        let fork = &push.fork;
+        let travel = self.travel_height(scene);
+        let mid = self.config.heights.push_fraction * self.height_of(scene, push.object);
+        let vertical = self.config.speeds.vertical;
+        let opening = fork.opening;
+        let pose = |p: nalgebra::Point2<f64>, z| self.tool_pose(p.x, p.y, z, fork.jaw_angle);
+        vec![
+            self.gripper(
+                format!(
+                    "{name}: open to the fork opening ({:.1} mm between plate centres)",
+                    opening * 1e3
+                ),
+                self.config.gripper.count_for_opening(opening),
+            ),
+            Self::moves(
+                format!("{name}: move above the start"),
+                vec![self.travel(pose(fork.approach, travel))],
+            ),
+            Self::moves(
+                format!(
+                    "{name}: descend to mid-height of object {} ({:.1} mm)",
+                    push.object,
+                    mid * 1e3
+                ),
+                vec![self.contact(pose(fork.approach, mid), vertical)],
+            ),
+            Self::moves(
+                format!("{name}: push {:.1} mm to the end", push.distance * 1e3),
+                vec![self.contact(pose(fork.end, mid), self.config.speeds.push)],
+            ),
+            Self::moves(
+                format!("{name}: rise"),
+                vec![self.contact(pose(fork.end, travel), vertical)],
+            ),
+        ]
+    }
+
+    /// The six steps of a grasp and its trip to the bin, planned on `scene`.
+    pub fn grasp_and_trip(&self, scene: &Scene, grasp: &Grasp, name: &str) -> Vec<Step> {
+        let jaws = &grasp.jaws;
+        let travel = self.travel_height(scene);
+        let vertical = self.config.speeds.vertical;
+        let pose = |z| self.tool_pose(jaws.center.x, jaws.center.y, z, jaws.angle);
+        let over_bin = ToolPose {
+            position: self.config.bin.drop,
+            rotation: pose(travel).rotation,
+        };
+        let objects = grasp
+            .objects
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        vec![
+            Self::moves(
+                format!("{name}: move above the grasp of objects [{objects}]"),
+                vec![self.travel(pose(travel))],
+            ),
+            self.gripper(
+                format!("{name}: open fully"),
+                self.config.gripper.open_count,
+            ),
+            Self::moves(
+                format!("{name}: descend"),
+                vec![self.contact(pose(self.config.heights.grasp), vertical)],
+            ),
+            self.gripper(
+                format!("{name}: close with limited force"),
+                self.config.gripper.closed_count,
+            ),
+            Self::moves(
+                format!("{name}: move to the bin"),
+                vec![self.contact(pose(travel), vertical), self.travel(over_bin)],
+            ),
+            self.gripper(
+                format!("{name}: open to drop"),
+                self.config.gripper.open_count,
+            ),
+        ]
+    }
+
+    /// All steps of one trip: its pushes in order, then its grasp and the trip to the bin.
+    pub fn trip(&self, scene: &Scene, pushes: &[Push], grasp: &Grasp, trip: usize) -> Vec<Step> {
+        let mut steps = Vec::new();
+        for (k, push) in pushes.iter().enumerate() {
+            let name = format!("trip {trip}, push {} of {}", k + 1, pushes.len());
+            steps.extend(self.fork_push(scene, push, &name));
+        }
+        steps.extend(self.grasp_and_trip(scene, grasp, &format!("trip {trip}, grasp")));
+        steps
+    }
+
+    /// Checks every step against the safety envelope and speed limit; `first_index` is the index of
+    /// `steps[0]` in the whole run (for the error message).
+    ///
+    /// # Errors
+    /// [`Error::UnsafeMotion`] naming the first step that breaks a limit.
+    pub fn check(&self, steps: &[Step], first_index: usize) -> Result<()> {
+        let safety = &self.config.safety;
+        for (k, step) in steps.iter().enumerate() {
+            let refuse = |reason: String| {
+                Err(Error::UnsafeMotion {
+                    step: first_index + k,
+                    label: step.label.clone(),
+                    reason,
+                })
+            };
+            let Action::Move { moves } = &step.action else {
+                continue;
+            };
+            for m in moves {
+                if !(m.speed.is_finite() && m.speed > 0.0 && m.speed <= safety.max_speed) {
+                    return refuse(format!(
+                        "speed {:.3} m/s exceeds the limit {:.3} m/s",
+                        m.speed, safety.max_speed
+                    ));
+                }
+                let p = Point3::from(m.to.position);
+                for axis in 0..3 {
+                    if !(p[axis] >= safety.min[axis] && p[axis] <= safety.max[axis]) {
+                        return refuse(format!(
+                            "pose ({:.4}, {:.4}, {:.4}) m leaves the envelope along {} \
+                             ([{:.4}, {:.4}] m)",
+                            p.x,
+                            p.y,
+                            p.z,
+                            ["x", "y", "z"][axis],
+                            safety.min[axis],
+                            safety.max[axis]
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Expected duration of a straight move of `length` metres at `speed` with `acceleration`
+/// (a trapezoidal or triangular speed profile), seconds.
+pub fn move_duration(length: f64, speed: f64, acceleration: f64) -> f64 {
+    let ramp = speed * speed / acceleration;
+    if length >= ramp {
+        length / speed + speed / acceleration
+    } else {
+        2.0 * (length / acceleration).sqrt()
+    }
+}

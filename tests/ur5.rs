@@ -1,0 +1,474 @@
+//! The UR5 executor against loopback fakes of the controller and the Robotiq URCap socket: whole plans
+//! step by step, scripted faults, calibration, the safety envelope and the golden URScript.
+
+use nalgebra::{Rotation3, Vector3};
+use pushmog::error::Error;
+use pushmog::exec::Ideal;
+use pushmog::exec::ur5::fake::{ControllerFaults, FakeController, FakeGripper, GripperFaults};
+use pushmog::exec::ur5::{
+    Action, Calibration, Correspondence, DryRun, Live, Observation, RobotConfig, StepRunner,
+    Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
+};
+use pushmog::plan::Plan;
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::random::SeededRng;
+use pushmog::scene::SceneSpec;
+
+use crate::support::{fixture, pushmog, scratch};
+
+fn example_config() -> RobotConfig {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml");
+    RobotConfig::load(&path).unwrap()
+}
+
+fn fixture_plan() -> Plan {
+    let text = std::fs::read_to_string(fixture("ur5/plan.json")).unwrap();
+    pushmog::json::from_json(&text, "plan.json").unwrap()
+}
+
+/// The example configuration pointed at the fakes, with short timeouts.
+fn config_for(controller: &FakeController, gripper: &FakeGripper) -> RobotConfig {
+    let mut config = example_config();
+    config.controller.host = "127.0.0.1".to_string();
+    config.controller.script_port = controller.script_port();
+    config.controller.rtde_port = controller.rtde_port();
+    config.controller.gripper_port = gripper.port();
+    config.timeouts.reply = 0.5;
+    config.timeouts.gripper = 0.3;
+    config.timeouts.motion_margin = 0.5;
+    config
+}
+
+fn fakes(controller: ControllerFaults, gripper: GripperFaults) -> (FakeController, FakeGripper) {
+    (
+        FakeController::start(controller).unwrap(),
+        FakeGripper::start(gripper).unwrap(),
+    )
+}
+
+fn live_runner(config: &RobotConfig) -> StepRunner<Live> {
+    StepRunner::new(
+        Translator::new(config.clone()).unwrap(),
+        Live::connect(config).unwrap(),
+    )
+}
+
+/// The move commands the fake gripper received (activation left out).
+fn gripper_moves(gripper: &FakeGripper) -> Vec<String> {
+    gripper
+        .commands()
+        .into_iter()
+        .filter(|c| c.starts_with("SET POS"))
+        .collect()
+}
+
+#[test]
+fn a_whole_plan_reaches_the_fakes_step_by_step() {
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    controller.set_done_register(41); // left by an earlier session: tokens must start past it
+    let config = config_for(&controller, &gripper);
+    let plan = fixture_plan();
+    let mut runner = live_runner(&config);
+    execute_plan(&mut runner, &plan).unwrap();
+
+    let translator = Translator::new(config.clone()).unwrap();
+    let steps = plan_steps(&translator, &plan).unwrap();
+    assert_eq!(runner.steps(), steps.as_slice());
+    let mut expected_programs = Vec::new();
+    let mut expected_moves = Vec::new();
+    let mut token = 42;
+    for (index, step) in steps.iter().enumerate() {
+        match step.action {
+            Action::Move { .. } => {
+                expected_programs.push(program(&config, step, index, token).unwrap());
+                token += 1;
+            }
+            Action::Gripper { .. } => expected_moves.push(gripper_command(step).unwrap()),
+        }
+    }
+    assert_eq!(controller.programs(), expected_programs);
+    assert_eq!(gripper_moves(&gripper), expected_moves);
+    // Activation first, then only the moves.
+    assert_eq!(gripper.commands()[0], "SET ACT 1");
+    assert_eq!(gripper.commands().len(), expected_moves.len() + 1);
+    // The fake ends where the last move of the last program went: over the bin.
+    let end = controller.state();
+    assert_eq!(end.done_register, token - 1);
+    for axis in 0..3 {
+        assert!((end.tcp_pose[axis] - config.bin.drop[axis]).abs() < 1e-5);
+    }
+    // Five steps per push, six per grasp.
+    let pushes: usize = plan.trips.iter().map(|t| t.pushes.len()).sum();
+    assert_eq!(steps.len(), 5 * pushes + 6 * plan.trips.len());
+}
+
+#[test]
+fn a_disconnect_mid_plan_stops_with_the_step_and_sends_nothing_more() {
+    let (controller, gripper) = fakes(
+        ControllerFaults {
+            disconnect_after_programs: Some(3),
+        },
+        GripperFaults::default(),
+    );
+    let config = config_for(&controller, &gripper);
+    let plan = fixture_plan();
+    let steps = plan_steps(&Translator::new(config.clone()).unwrap(), &plan).unwrap();
+    let third_motion = steps
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| matches!(s.action, Action::Move { .. }))
+        .nth(2)
+        .unwrap()
+        .0;
+    let mut runner = live_runner(&config);
+    let error = execute_plan(&mut runner, &plan).unwrap_err();
+    match &error {
+        Error::RobotStopped {
+            step,
+            completed,
+            reason,
+            ..
+        } => {
+            assert_eq!(*step, third_motion);
+            assert_eq!(*completed, third_motion);
+            assert!(reason.contains("RTDE connection lost"), "{reason}");
+        }
+        other => panic!("expected RobotStopped, got {other}"),
+    }
+    assert!(error.to_string().contains("last known state"));
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(controller.programs().len(), 3);
+    let grippers_before = steps[..third_motion]
+        .iter()
+        .filter(|s| matches!(s.action, Action::Gripper { .. }))
+        .count();
+    assert_eq!(gripper_moves(&gripper).len(), grippers_before);
+    // A later call sends nothing either.
+    let again = execute_plan(&mut runner, &plan).unwrap_err();
+    assert!(matches!(again, Error::RobotStopped { .. }));
+    assert_eq!(controller.programs().len(), 3);
+    assert_eq!(gripper_moves(&gripper).len(), grippers_before);
+}
+
+#[test]
+fn a_gripper_that_never_finishes_times_out_at_its_step() {
+    let (controller, gripper) = fakes(
+        ControllerFaults::default(),
+        GripperFaults {
+            never_done: true,
+            ..GripperFaults::default()
+        },
+    );
+    let config = config_for(&controller, &gripper);
+    let mut runner = live_runner(&config);
+    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
+    // Step 0 moves above the first grasp; step 1 opens the jaws and never ends.
+    match &error {
+        Error::RobotStopped { step, reason, .. } => {
+            assert_eq!(*step, 1);
+            assert!(reason.contains("did not finish"), "{reason}");
+        }
+        other => panic!("expected RobotStopped, got {other}"),
+    }
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(controller.programs().len(), 1);
+    assert_eq!(gripper_moves(&gripper).len(), 1);
+}
+
+#[test]
+fn a_gripper_fault_stops_at_once() {
+    let (controller, gripper) = fakes(
+        ControllerFaults::default(),
+        GripperFaults {
+            fault_at_move: Some((2, 7)),
+            ..GripperFaults::default()
+        },
+    );
+    let config = config_for(&controller, &gripper);
+    let mut runner = live_runner(&config);
+    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
+    // Steps: 0 above, 1 open, 2 descend, 3 close (the second gripper move: FLT 7).
+    match &error {
+        Error::RobotStopped { step, reason, .. } => {
+            assert_eq!(*step, 3);
+            assert!(reason.contains("FLT 7"), "{reason}");
+        }
+        other => panic!("expected RobotStopped, got {other}"),
+    }
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(controller.programs().len(), 2);
+    assert_eq!(gripper_moves(&gripper).len(), 2);
+}
+
+#[test]
+fn the_envelope_refuses_before_any_byte_is_sent() {
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let mut config = config_for(&controller, &gripper);
+    config.safety.min[0] = -0.40; // the bin at x = −0.45 is now outside
+    let translator = Translator::new(config.clone()).unwrap();
+    let steps = plan_steps(&translator, &fixture_plan()).unwrap();
+    let refused = translator.check(&steps, 0).unwrap_err();
+    match &refused {
+        Error::UnsafeMotion {
+            step,
+            label,
+            reason,
+        } => {
+            assert_eq!(*step, 4, "{label}");
+            assert!(label.contains("move to the bin"));
+            assert!(reason.contains("along x"), "{reason}");
+        }
+        other => panic!("expected UnsafeMotion, got {other}"),
+    }
+    // Through a live link: refused before the first step, so no program and no gripper move.
+    let mut runner = live_runner(&config);
+    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
+    assert!(matches!(error, Error::UnsafeMotion { step: 4, .. }));
+    std::thread::sleep(std::time::Duration::from_millis(30));
+    assert!(controller.programs().is_empty());
+    assert!(gripper_moves(&gripper).is_empty());
+
+    // A speed over the limit is refused too.
+    let mut fast = config.clone();
+    fast.safety.min[0] = -0.55;
+    fast.speeds.travel = 0.5;
+    let translator = Translator::new(fast).unwrap();
+    let error = translator
+        .check(&plan_steps(&translator, &fixture_plan()).unwrap(), 0)
+        .unwrap_err();
+    assert!(error.to_string().contains("exceeds the limit"), "{error}");
+}
+
+#[test]
+fn the_cli_refuses_an_unsafe_plan_without_connecting() {
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let mut config = config_for(&controller, &gripper);
+    config.safety.max[2] = 0.15; // the bin at z = 0.2 is now outside
+    let dir = scratch("ur5-cli-refuse");
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
+    let plan = fixture("ur5/plan.json");
+    let out = pushmog(&[
+        "execute",
+        plan.to_str().unwrap(),
+        "--robot",
+        robot.to_str().unwrap(),
+        "--execute",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("refused before sending anything"),
+        "{stderr}"
+    );
+    assert_eq!(gripper.connections(), 0);
+    assert!(controller.programs().is_empty());
+}
+
+#[test]
+fn the_cli_executes_a_plan_on_the_fakes_and_dry_runs_by_default() {
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let dir = scratch("ur5-cli");
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
+    let plan = fixture("ur5/plan.json");
+    let out_dir = dir.join("dry");
+    let dry = pushmog(&[
+        "execute",
+        plan.to_str().unwrap(),
+        "--robot",
+        robot.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(
+        dry.status.success(),
+        "{}",
+        String::from_utf8_lossy(&dry.stderr)
+    );
+    for file in ["program.script", "steps.txt", "tool-path.svg"] {
+        assert!(out_dir.join(file).is_file(), "{file}");
+    }
+    assert!(controller.programs().is_empty(), "a dry run sends nothing");
+    assert_eq!(gripper.connections(), 0);
+
+    let live = pushmog(&[
+        "execute",
+        plan.to_str().unwrap(),
+        "--robot",
+        robot.to_str().unwrap(),
+        "--execute",
+    ]);
+    assert!(
+        live.status.success(),
+        "{}",
+        String::from_utf8_lossy(&live.stderr)
+    );
+    let script = std::fs::read_to_string(out_dir.join("program.script")).unwrap();
+    assert_eq!(
+        controller.programs().len(),
+        script.matches("def pushmog_step_").count()
+    );
+}
+
+#[test]
+fn the_closed_loop_replans_on_each_observation() {
+    // Record the observations an ideal run would see, then replay them from a command while the
+    // fakes carry the steps out: the robot's run must make the same trips.
+    let scene = pushmog::json::read_scene(&fixture("ur5/scene.json")).unwrap();
+    let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
+    let mut ideal = Ideal::new(policy.settings().multi.model.clone());
+    let reference = policy.run(&scene, &mut ideal, 5).unwrap();
+    let dir = scratch("ur5-closed-loop");
+    let mut observations: Vec<SceneSpec> =
+        reference.trips.iter().map(|t| t.scene.clone()).collect();
+    let mut empty = scene.to_spec();
+    empty.objects.clear();
+    observations.push(empty);
+    for (k, spec) in observations.iter().enumerate() {
+        std::fs::write(
+            dir.join(format!("scene-{k}.json")),
+            pushmog::json::to_json(spec),
+        )
+        .unwrap();
+    }
+    std::fs::write(dir.join("count"), "0").unwrap();
+    let command = format!(
+        "cd '{}' && n=$(cat count) && echo $((n + 1)) > count && cat scene-$n.json",
+        dir.display()
+    );
+    let observation = Observation::Command(command);
+
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let first = observation.read().unwrap();
+    let mut robot = Ur5::new(live_runner(&config), observation);
+    let run = policy.run(&first, &mut robot, 5).unwrap();
+    assert_eq!(run.trips.len(), reference.trips.len());
+    for (a, b) in run.trips.iter().zip(&reference.trips) {
+        assert_eq!(a.grasp, b.grasp);
+        assert_eq!(a.pushes, b.pushes);
+        let (mut x, mut y) = (a.carried.clone(), b.carried.clone());
+        x.sort_unstable();
+        y.sort_unstable();
+        assert_eq!(x, y);
+    }
+    assert_eq!(run.status, pushmog::plan::RunStatus::Cleared);
+    let motions = robot
+        .runner()
+        .steps()
+        .iter()
+        .filter(|s| matches!(s.action, Action::Move { .. }))
+        .count();
+    assert_eq!(controller.programs().len(), motions);
+}
+
+#[test]
+fn calibration_recovers_a_known_transform_within_the_noise() {
+    let rotation = Rotation3::from_euler_angles(0.01, -0.02, 0.7);
+    let translation = Vector3::new(-0.31, 0.27, 0.012);
+    let mut rng = SeededRng::new(11);
+    let sigma = 0.0005;
+    let table: Vec<[f64; 2]> = (0..12)
+        .map(|i| [0.6 * f64::from(i % 4) / 3.0, 0.45 * f64::from(i / 4) / 2.0])
+        .collect();
+    let points: Vec<Correspondence> = table
+        .iter()
+        .map(|t| {
+            let exact = rotation * Vector3::new(t[0], t[1], 0.0) + translation;
+            let noise = Vector3::new(rng.normal(), rng.normal(), rng.normal()) * sigma;
+            let b = exact + noise;
+            Correspondence {
+                table: *t,
+                base: [b.x, b.y, b.z],
+            }
+        })
+        .collect();
+    let fit = Calibration::fit(&points).unwrap();
+    let angle_error = (fit.rotation * rotation.inverse()).angle();
+    let offset_error = (fit.translation - translation).norm();
+    // With 12 points spread over 0.6 m × 0.45 m, a 0.5 mm noise moves the fit by well under a
+    // milliradian and a millimetre.
+    assert!(angle_error < 2e-3, "rotation off by {angle_error} rad");
+    assert!(offset_error < 1e-3, "translation off by {offset_error} m");
+    // Residuals are of the noise's size (3 axes of σ each).
+    assert!(fit.rms_residual > 0.2 * sigma && fit.rms_residual < 3.0 * sigma);
+
+    // Exact points give the transform back exactly.
+    let exact: Vec<Correspondence> = [table[0], table[3], table[11]]
+        .iter()
+        .map(|t| {
+            let b = rotation * Vector3::new(t[0], t[1], 0.0) + translation;
+            Correspondence {
+                table: *t,
+                base: [b.x, b.y, b.z],
+            }
+        })
+        .collect();
+    let fit = Calibration::fit(&exact).unwrap();
+    // (Compared as matrices: `angle()` goes through acos, which is only good to ~1e-8 near zero.)
+    let difference = (fit.rotation.matrix() - rotation.matrix()).norm();
+    assert!(difference < 1e-9, "rotation differs by {difference}");
+    assert!((fit.translation - translation).norm() < 1e-9);
+    assert!(fit.rms_residual < 1e-9);
+}
+
+#[test]
+fn calibration_rejects_too_few_or_collinear_points() {
+    let on_a_line: Vec<Correspondence> = (0..4)
+        .map(|i| Correspondence {
+            table: [0.1 * f64::from(i), 0.0],
+            base: [0.1 * f64::from(i), 0.3, 0.0],
+        })
+        .collect();
+    let error = Calibration::fit(&on_a_line).unwrap_err();
+    assert!(error.to_string().contains("one line"), "{error}");
+    let error = Calibration::fit(&on_a_line[..2]).unwrap_err();
+    assert!(error.to_string().contains("at least 3"), "{error}");
+
+    // A configuration whose points disagree by centimetres is refused with the residual named.
+    let mut config = example_config();
+    config.calibration.points[2].base[0] += 0.02;
+    let error = config.validate().unwrap_err();
+    assert!(error.to_string().contains("RMS residual"), "{error}");
+}
+
+#[test]
+fn the_tool_points_down_with_the_jaws_along_the_plan() {
+    let translator = Translator::new(example_config()).unwrap();
+    for angle in [0.0, 0.4, 1.2, 2.0, 3.0] {
+        let pose = translator.tool_pose(0.3, 0.2, 0.05, angle);
+        let rv = Vector3::from(pose.rotation);
+        let r = Rotation3::new(rv);
+        // The tool's z axis points down, its y axis (the closing axis) along the jaw angle.
+        assert!((r * Vector3::z() + Vector3::z()).norm() < 1e-9);
+        let closing = r * Vector3::y();
+        let along = closing.x * angle.cos() + closing.y * angle.sin();
+        assert!((along.abs() - 1.0).abs() < 1e-9, "angle {angle}");
+    }
+}
+
+#[test]
+fn the_urscript_of_the_fixture_plan_matches_the_reviewed_golden_file() {
+    let config = example_config();
+    let translator = Translator::new(config.clone()).unwrap();
+    let steps = plan_steps(&translator, &fixture_plan()).unwrap();
+    let text = listing(&config, &steps);
+    let golden = fixture("ur5/program.script");
+    if std::env::var_os("PUSHMOG_UPDATE_GOLDEN").is_some() {
+        std::fs::write(&golden, &text).unwrap();
+    }
+    let expected = std::fs::read_to_string(&golden).unwrap();
+    assert_eq!(
+        text, expected,
+        "URScript changed: review the difference, then rerun with PUSHMOG_UPDATE_GOLDEN=1"
+    );
+    // A dry run through the runner records the same programs.
+    let mut runner = StepRunner::new(translator, DryRun::default());
+    runner.run(steps.clone()).unwrap();
+    assert_eq!(
+        runner.link().programs.len(),
+        text.matches("def pushmog_step_").count()
+    );
+}
