@@ -33,9 +33,10 @@ fn config_for(controller: &FakeController, gripper: &FakeGripper) -> RobotConfig
     config.controller.script_port = controller.script_port();
     config.controller.rtde_port = controller.rtde_port();
     config.controller.gripper_port = gripper.port();
-    config.timeouts.reply = 0.5;
-    config.timeouts.gripper = 0.3;
-    config.timeouts.motion_margin = 0.5;
+    // Generous for the fakes (they answer in milliseconds) so a loaded CI machine does not time out.
+    config.timeouts.reply = 2.0;
+    config.timeouts.gripper = 2.0;
+    config.timeouts.motion_margin = 2.0;
     config
 }
 
@@ -107,6 +108,7 @@ fn a_disconnect_mid_plan_stops_with_the_step_and_sends_nothing_more() {
     let (controller, gripper) = fakes(
         ControllerFaults {
             disconnect_after_programs: Some(3),
+            ..ControllerFaults::default()
         },
         GripperFaults::default(),
     );
@@ -151,6 +153,32 @@ fn a_disconnect_mid_plan_stops_with_the_step_and_sends_nothing_more() {
 }
 
 #[test]
+fn a_protective_stop_stops_the_run_at_its_step() {
+    let (controller, gripper) = fakes(
+        ControllerFaults {
+            protective_stop_at_program: Some(2),
+            ..ControllerFaults::default()
+        },
+        GripperFaults::default(),
+    );
+    let config = config_for(&controller, &gripper);
+    let mut runner = live_runner(&config);
+    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
+    // Step 0 moves above the first grasp, step 1 opens the jaws, step 2 (the second program)
+    // descends and is stopped.
+    match &error {
+        Error::RobotStopped { step, reason, .. } => {
+            assert_eq!(*step, 2);
+            assert!(reason.contains("safety mode 3"), "{reason}");
+        }
+        other => panic!("expected RobotStopped, got {other}"),
+    }
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(controller.programs().len(), 2);
+    assert_eq!(gripper_moves(&gripper).len(), 1);
+}
+
+#[test]
 fn a_gripper_that_never_finishes_times_out_at_its_step() {
     let (controller, gripper) = fakes(
         ControllerFaults::default(),
@@ -159,7 +187,8 @@ fn a_gripper_that_never_finishes_times_out_at_its_step() {
             ..GripperFaults::default()
         },
     );
-    let config = config_for(&controller, &gripper);
+    let mut config = config_for(&controller, &gripper);
+    config.timeouts.gripper = 0.3;
     let mut runner = live_runner(&config);
     let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
     // Step 0 moves above the first grasp; step 1 opens the jaws and never ends.

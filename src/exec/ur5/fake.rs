@@ -11,7 +11,8 @@
 //!   an object), `FLT`.
 //!
 //! What they do not model: the real controller's secondary-interface state stream, program
-//! interruption rules, protective stops, and the gripper's timing and object detection physics.
+//! interruption rules, what raises a protective stop (one can only be scripted), and the gripper's
+//! timing and object detection physics.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -27,6 +28,8 @@ pub struct ControllerFaults {
     /// After receiving this many programs, drop every connection and accept no more (the last one
     /// received never finishes).
     pub disconnect_after_programs: Option<usize>,
+    /// The n-th program (1-based) ends in a protective stop (safety mode 3) instead of finishing.
+    pub protective_stop_at_program: Option<usize>,
 }
 
 #[derive(Debug)]
@@ -140,6 +143,12 @@ impl FakeController {
             }
             lock(&s.state).runtime_state = 2;
             std::thread::sleep(MOTION_TIME);
+            if faults.protective_stop_at_program == Some(count) {
+                let mut state = lock(&s.state);
+                state.safety_mode = 3;
+                state.runtime_state = 4;
+                return;
+            }
             let (target, token) = parse_program(&program);
             let mut state = lock(&s.state);
             if let Some(pose) = target {

@@ -141,7 +141,14 @@ impl Live {
             });
         }
 
-        let gripper_stream = connect(&c.host, c.gripper_port, t.connect)?;
+        let gripper_stream = match connect(&c.host, c.gripper_port, t.connect) {
+            Ok(stream) => stream,
+            Err(fault) => {
+                stop_reader.store(true, Ordering::Relaxed);
+                let _ = rtde_handle.shutdown(std::net::Shutdown::Both);
+                return Err(fault);
+            }
+        };
         gripper_stream
             .set_read_timeout(Some(seconds(t.reply)))
             .map_err(|e| e.to_string())?;
@@ -311,8 +318,13 @@ impl RobotLink for Live {
         let deadline = Instant::now() + seconds(limit);
         loop {
             if let Some(state) = self.latest() {
-                if state.safety_mode != 1 && state.safety_mode != 0 {
-                    return Err(format!("safety mode {} (not normal)", state.safety_mode));
+                // 1 normal, 2 reduced; anything else is a stop of some kind (3 protective,
+                // 5 safeguard, 6 and 7 emergency, 8 violation, 9 fault).
+                if !matches!(state.safety_mode, 1 | 2) {
+                    return Err(format!(
+                        "safety mode {} (a protective, safeguard or emergency stop)",
+                        state.safety_mode
+                    ));
                 }
                 if state.done_register == token {
                     return Ok(());
