@@ -152,81 +152,83 @@ fn a_disconnect_mid_plan_stops_with_the_step_and_sends_nothing_more() {
     assert_eq!(gripper_moves(&gripper).len(), grippers_before);
 }
 
-#[test]
-fn a_protective_stop_stops_the_run_at_its_step() {
-    let (controller, gripper) = fakes(
-        ControllerFaults {
-            protective_stop_at_program: Some(2),
-            ..ControllerFaults::default()
-        },
-        GripperFaults::default(),
-    );
-    let config = config_for(&controller, &gripper);
+/// What a scripted fault left behind: the step the run stopped at, the reason, and how many programs
+/// and gripper moves the fakes had received (checked after a pause, so late sends would show).
+struct Stopped {
+    step: usize,
+    reason: String,
+    programs: usize,
+    gripper_moves: usize,
+}
+
+/// Runs the fixture plan against fakes with the given faults (and gripper timeout) until it stops.
+fn run_until_stopped(
+    controller_faults: ControllerFaults,
+    gripper_faults: GripperFaults,
+    gripper_timeout: f64,
+) -> Stopped {
+    let (controller, gripper) = fakes(controller_faults, gripper_faults);
+    let mut config = config_for(&controller, &gripper);
+    config.timeouts.gripper = gripper_timeout;
     let mut runner = live_runner(&config);
     let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
-    // Step 0 moves above the first grasp, step 1 opens the jaws, step 2 (the second program)
-    // descends and is stopped.
-    match &error {
-        Error::RobotStopped { step, reason, .. } => {
-            assert_eq!(*step, 2);
-            assert!(reason.contains("safety mode 3"), "{reason}");
-        }
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    match error {
+        Error::RobotStopped { step, reason, .. } => Stopped {
+            step,
+            reason,
+            programs: controller.programs().len(),
+            gripper_moves: gripper_moves(&gripper).len(),
+        },
         other => panic!("expected RobotStopped, got {other}"),
     }
-    std::thread::sleep(std::time::Duration::from_millis(50));
-    assert_eq!(controller.programs().len(), 2);
-    assert_eq!(gripper_moves(&gripper).len(), 1);
+}
+
+// The fixture plan's first trip has no push: step 0 moves above the grasp, 1 opens the jaws, 2
+// descends (the second program), 3 closes (the second gripper move).
+
+#[test]
+fn a_protective_stop_stops_the_run_at_its_step() {
+    let faults = ControllerFaults {
+        protective_stop_at_program: Some(2),
+        ..ControllerFaults::default()
+    };
+    let stopped = run_until_stopped(faults, GripperFaults::default(), 2.0);
+    assert_eq!(stopped.step, 2);
+    assert!(
+        stopped.reason.contains("safety mode 3"),
+        "{}",
+        stopped.reason
+    );
+    assert_eq!((stopped.programs, stopped.gripper_moves), (2, 1));
 }
 
 #[test]
 fn a_gripper_that_never_finishes_times_out_at_its_step() {
-    let (controller, gripper) = fakes(
-        ControllerFaults::default(),
-        GripperFaults {
-            never_done: true,
-            ..GripperFaults::default()
-        },
+    let faults = GripperFaults {
+        never_done: true,
+        ..GripperFaults::default()
+    };
+    let stopped = run_until_stopped(ControllerFaults::default(), faults, 0.3);
+    assert_eq!(stopped.step, 1);
+    assert!(
+        stopped.reason.contains("did not finish"),
+        "{}",
+        stopped.reason
     );
-    let mut config = config_for(&controller, &gripper);
-    config.timeouts.gripper = 0.3;
-    let mut runner = live_runner(&config);
-    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
-    // Step 0 moves above the first grasp; step 1 opens the jaws and never ends.
-    match &error {
-        Error::RobotStopped { step, reason, .. } => {
-            assert_eq!(*step, 1);
-            assert!(reason.contains("did not finish"), "{reason}");
-        }
-        other => panic!("expected RobotStopped, got {other}"),
-    }
-    std::thread::sleep(std::time::Duration::from_millis(50));
-    assert_eq!(controller.programs().len(), 1);
-    assert_eq!(gripper_moves(&gripper).len(), 1);
+    assert_eq!((stopped.programs, stopped.gripper_moves), (1, 1));
 }
 
 #[test]
 fn a_gripper_fault_stops_at_once() {
-    let (controller, gripper) = fakes(
-        ControllerFaults::default(),
-        GripperFaults {
-            fault_at_move: Some((2, 7)),
-            ..GripperFaults::default()
-        },
-    );
-    let config = config_for(&controller, &gripper);
-    let mut runner = live_runner(&config);
-    let error = execute_plan(&mut runner, &fixture_plan()).unwrap_err();
-    // Steps: 0 above, 1 open, 2 descend, 3 close (the second gripper move: FLT 7).
-    match &error {
-        Error::RobotStopped { step, reason, .. } => {
-            assert_eq!(*step, 3);
-            assert!(reason.contains("FLT 7"), "{reason}");
-        }
-        other => panic!("expected RobotStopped, got {other}"),
-    }
-    std::thread::sleep(std::time::Duration::from_millis(50));
-    assert_eq!(controller.programs().len(), 2);
-    assert_eq!(gripper_moves(&gripper).len(), 2);
+    let faults = GripperFaults {
+        fault_at_move: Some((2, 7)),
+        ..GripperFaults::default()
+    };
+    let stopped = run_until_stopped(ControllerFaults::default(), faults, 2.0);
+    assert_eq!(stopped.step, 3);
+    assert!(stopped.reason.contains("FLT 7"), "{}", stopped.reason);
+    assert_eq!((stopped.programs, stopped.gripper_moves), (2, 2));
 }
 
 #[test]
@@ -500,4 +502,35 @@ fn the_urscript_of_the_fixture_plan_matches_the_reviewed_golden_file() {
         runner.link().programs.len(),
         text.matches("def pushmog_step_").count()
     );
+}
+
+#[test]
+fn bad_robot_configurations_name_the_field() {
+    let example = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
+    )
+    .unwrap();
+    let cases = [
+        ("speed = 128", "speed = 999", "speed = 999"), // the parser quotes the line
+        ("max_speed = 0.30", "max_speed = -1.0", "safety.max_speed"),
+        (
+            "closed_count = 230",
+            "closed_count = 2",
+            "gripper.closed_count",
+        ),
+        ("[heights]", "[heights]\nbogus = 1.0", "bogus"),
+        (
+            "min = [-0.55, 0.20, 0.000]",
+            "min = [0.55, 0.20, 0.000]",
+            "safety",
+        ),
+    ];
+    for (from, to, named) in cases {
+        assert!(example.contains(from), "{from}");
+        let text = example.replacen(from, to, 1);
+        let error = RobotConfig::from_toml(&text, "cell.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(named), "{to}: {error}");
+    }
 }
