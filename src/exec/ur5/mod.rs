@@ -230,8 +230,7 @@ impl<L: RobotLink> StepRunner<L> {
 /// [`Error::UnsafeMotion`] before anything is sent, [`Error::RobotStopped`] at the first fault.
 pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Result<()> {
     let steps = plan_steps(runner.translator(), plan)?;
-    runner.translator().check(&steps, runner.steps().len())?;
-    runner.run(steps)
+    runner.run(steps) // checks every step before sending the first
 }
 
 /// Every robot step of a recorded plan.
