@@ -324,12 +324,15 @@ fn the_cli_executes_a_plan_on_the_fakes_and_dry_runs_by_default() {
     assert!(controller.programs().is_empty(), "a dry run sends nothing");
     assert_eq!(gripper.connections(), 0);
 
+    let live_dir = dir.join("live");
     let live = pushmog(&[
         "execute",
         plan.to_str().unwrap(),
         "--robot",
         robot.to_str().unwrap(),
         "--execute",
+        "--out",
+        live_dir.to_str().unwrap(),
     ]);
     assert!(
         live.status.success(),
@@ -341,6 +344,47 @@ fn the_cli_executes_a_plan_on_the_fakes_and_dry_runs_by_default() {
         controller.programs().len(),
         script.matches("def pushmog_step_").count()
     );
+    // The record of what was done is the dry run's step list, all of it.
+    let done = std::fs::read_to_string(live_dir.join("executed.txt")).unwrap();
+    let listed = std::fs::read_to_string(out_dir.join("steps.txt")).unwrap();
+    assert_eq!(done, listed);
+}
+
+#[test]
+fn the_cli_reports_a_fault_and_keeps_the_record_of_completed_steps() {
+    let (controller, gripper) = fakes(
+        ControllerFaults::default(),
+        GripperFaults {
+            fault_at_move: Some((2, 5)),
+            ..GripperFaults::default()
+        },
+    );
+    let config = config_for(&controller, &gripper);
+    let dir = scratch("ur5-cli-fault");
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
+    let plan = fixture("ur5/plan.json");
+    let out = pushmog(&[
+        "execute",
+        plan.to_str().unwrap(),
+        "--robot",
+        robot.to_str().unwrap(),
+        "--execute",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("robot stopped at step 3"), "{stderr}");
+    assert!(stderr.contains("FLT 5"), "{stderr}");
+    let record = std::fs::read_to_string(dir.join("executed.txt")).unwrap();
+    assert!(
+        record.contains("stopped: robot stopped at step 3"),
+        "{record}"
+    );
+    // Steps 0–2 are recorded as done; step 3 is not.
+    assert!(record.contains("   2  trip 1, grasp: descend"));
+    assert!(!record.contains("   3  trip 1"));
 }
 
 #[test]

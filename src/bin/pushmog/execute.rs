@@ -56,6 +56,19 @@ fn write_dry_run(
     Ok(())
 }
 
+/// Writes `executed.txt`: every step the robot completed and, when it stopped, why — so a stopped run
+/// loses nothing of what is known about it.
+fn write_record(steps: &[Step], error: Option<&Error>, out: &Path) -> Result<()> {
+    let path = out.join("executed.txt");
+    let mut text = step_list(steps);
+    if let Some(error) = error {
+        text.push_str(&format!("\nstopped: {error}\n"));
+    }
+    json::write_text(&path, &text)?;
+    eprintln!("wrote {} ({} steps completed)", path.display(), steps.len());
+    Ok(())
+}
+
 fn connect(config: &RobotConfig) -> Result<Live> {
     eprintln!(
         "connecting to {} (script {}, RTDE {}, gripper {})",
@@ -102,7 +115,9 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 translator.check(&plan_steps(&translator, &plan)?, 0)?;
                 let mut runner =
                     StepRunner::new(translator, connect(&config)?).with_progress(print_step);
-                execute_plan(&mut runner, &plan)?;
+                let outcome = execute_plan(&mut runner, &plan);
+                write_record(runner.steps(), outcome.as_ref().err(), &args.out)?;
+                outcome?;
                 println!(
                     "executed {} steps of {} trips",
                     runner.steps().len(),
@@ -122,7 +137,10 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 let runner =
                     StepRunner::new(translator, connect(&config)?).with_progress(print_step);
                 let mut robot = Ur5::new(runner, observation);
-                let plan = policy.run(&scene, &mut robot, args.seed)?;
+                let outcome = policy.run(&scene, &mut robot, args.seed);
+                write_record(robot.runner().steps(), outcome.as_ref().err(), &args.out)?;
+                let plan = outcome?;
+                json::write_text(&args.out.join("run.json"), &json::to_json(&plan))?;
                 print!("{}", summary(&plan, scene.len()));
                 Ok(())
             } else {

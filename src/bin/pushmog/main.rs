@@ -181,7 +181,8 @@ struct ExecuteArgs {
     /// Send it to the robot. Without this flag nothing moves.
     #[arg(long)]
     execute: bool,
-    /// Folder for the dry run's program.script, steps.txt and tool-path.svg.
+    /// Folder for what is written: a dry run's program.script, steps.txt and tool-path.svg; an
+    /// executed run's executed.txt (the steps completed, and why it stopped) and, closed loop, run.json.
     #[arg(long, default_value = "out/ur5")]
     out: PathBuf,
     /// Closed loop: a scene JSON file read again after every trip.
