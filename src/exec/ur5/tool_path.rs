@@ -70,7 +70,7 @@ pub fn tool_path_svg(translator: &Translator, scene: &Scene, steps: &[Step]) -> 
                 if (to - f).norm() < 1e-6 {
                     canvas.dot(&to, 2.5, &Style::filled("#1f77b4", "none"));
                 } else if is_push {
-                    canvas.arrow(&f, &to, 0.012, &Style::outline("#d62728", 2.0));
+                    canvas.arrow(&f, &to, 9.0, &Style::outline("#d62728", 2.0));
                 } else {
                     canvas.line(&f, &to, &Style::outline("#aaaaaa", 0.8));
                 }
