@@ -387,15 +387,14 @@ fn the_cli_reports_a_fault_and_keeps_the_record_of_completed_steps() {
     assert!(!record.contains("   3  trip 1"));
 }
 
-#[test]
-fn the_closed_loop_replans_on_each_observation() {
-    // Record the observations an ideal run would see, then replay them from a command while the
-    // fakes carry the steps out: the robot's run must make the same trips.
+/// The observations an ideal run of push-mog on the fixture scene sees, replayed one per call by a
+/// shell command; returns the command and the ideal run.
+fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
     let scene = pushmog::json::read_scene(&fixture("ur5/scene.json")).unwrap();
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
     let mut ideal = Ideal::new(policy.settings().multi.model.clone());
     let reference = policy.run(&scene, &mut ideal, 5).unwrap();
-    let dir = scratch("ur5-closed-loop");
+    let dir = scratch(name);
     let mut observations: Vec<SceneSpec> =
         reference.trips.iter().map(|t| t.scene.clone()).collect();
     let mut empty = scene.to_spec();
@@ -413,8 +412,14 @@ fn the_closed_loop_replans_on_each_observation() {
         "cd '{}' && n=$(cat count) && echo $((n + 1)) > count && cat scene-$n.json",
         dir.display()
     );
-    let observation = Observation::Command(command);
+    (Observation::Command(command), reference, policy)
+}
 
+#[test]
+fn the_closed_loop_replans_on_each_observation() {
+    // Replay the observations of an ideal run while the fakes carry the steps out: the robot's run
+    // must make the same trips.
+    let (observation, reference, policy) = replayed_observations("ur5-closed-loop");
     let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
     let config = config_for(&controller, &gripper);
     let first = observation.read().unwrap();
@@ -430,6 +435,14 @@ fn the_closed_loop_replans_on_each_observation() {
         assert_eq!(x, y);
     }
     assert_eq!(run.status, pushmog::plan::RunStatus::Cleared);
+    // The executor's own record agrees with the run.
+    assert_eq!(robot.trips().len(), run.trips.len());
+    for (done, trip) in robot.trips().iter().zip(&run.trips) {
+        assert_eq!(done.scene, trip.scene);
+        assert_eq!(done.pushes, trip.pushes);
+        assert_eq!(done.grasp.as_ref(), Some(&trip.grasp));
+        assert_eq!(done.carried, trip.carried);
+    }
     let motions = robot
         .runner()
         .steps()
@@ -577,4 +590,29 @@ fn bad_robot_configurations_name_the_field() {
             .to_string();
         assert!(error.contains(named), "{to}: {error}");
     }
+}
+
+#[test]
+fn a_closed_loop_that_stops_keeps_its_trips() {
+    let (observation, reference, policy) = replayed_observations("ur5-closed-loop-fault");
+    let faults = GripperFaults {
+        fault_at_move: Some((6, 4)),
+        ..GripperFaults::default()
+    };
+    let (controller, gripper) = fakes(ControllerFaults::default(), faults);
+    let config = config_for(&controller, &gripper);
+    let first = observation.read().unwrap();
+    let mut robot = Ur5::new(live_runner(&config), observation);
+    let error = policy.run(&first, &mut robot, 5).unwrap_err();
+    assert!(error.to_string().contains("FLT 4"), "{error}");
+    let trips = robot.trips();
+    let (last, finished) = trips.split_last().unwrap();
+    // Every trip before the fault is whole and as the ideal run made it; the last one stopped
+    // before its grasp was done.
+    assert!(last.grasp.is_none());
+    for (done, trip) in finished.iter().zip(&reference.trips) {
+        assert_eq!(done.grasp.as_ref(), Some(&trip.grasp));
+        assert_eq!(done.pushes, trip.pushes);
+    }
+    assert_eq!(gripper_moves(&gripper).len(), 6);
 }

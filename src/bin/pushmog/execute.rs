@@ -139,6 +139,10 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 let mut robot = Ur5::new(runner, observation);
                 let outcome = policy.run(&scene, &mut robot, args.seed);
                 write_record(robot.runner().steps(), outcome.as_ref().err(), &args.out)?;
+                json::write_text(
+                    &args.out.join("executed-trips.json"),
+                    &json::to_json(&robot.trips()),
+                )?;
                 let plan = outcome?;
                 json::write_text(&args.out.join("run.json"), &json::to_json(&plan))?;
                 print!("{}", summary(&plan, scene.len()));

@@ -182,7 +182,8 @@ struct ExecuteArgs {
     #[arg(long)]
     execute: bool,
     /// Folder for what is written: a dry run's program.script, steps.txt and tool-path.svg; an
-    /// executed run's executed.txt (the steps completed, and why it stopped) and, closed loop, run.json.
+    /// executed run's executed.txt (the steps completed, and why it stopped); a closed loop's
+    /// executed-trips.json (what each trip did, the last one possibly unfinished) and run.json.
     #[arg(long, default_value = "out/ur5")]
     out: PathBuf,
     /// Closed loop: a scene JSON file read again after every trip.

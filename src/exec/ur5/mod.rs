@@ -28,6 +28,8 @@ mod urscript;
 
 use std::path::PathBuf;
 
+use serde::{Deserialize, Serialize};
+
 pub use calibration::{Calibration, Correspondence};
 pub use config::{
     BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, RobotConfig,
@@ -44,7 +46,7 @@ use crate::exec::Executor;
 use crate::grasp::Grasp;
 use crate::plan::Plan;
 use crate::push::Push;
-use crate::scene::{ObjectId, Scene};
+use crate::scene::{ObjectId, Scene, SceneSpec};
 
 /// Where observations of the table come from between trips.
 #[derive(Clone, Debug, PartialEq)]
@@ -246,6 +248,20 @@ pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
     Ok(steps)
 }
 
+/// What the robot did in one trip of a closed loop, kept by [`Ur5`] as it goes so that a run that stops
+/// on a fault loses nothing of what happened.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExecutedTrip {
+    /// The observation the trip was planned on.
+    pub scene: SceneSpec,
+    /// The fork pushes completed.
+    pub pushes: Vec<Push>,
+    /// The grasp, once its trip to the bin completed (`None` when the run stopped before).
+    pub grasp: Option<Grasp>,
+    /// The objects gone from the table after the trip.
+    pub carried: Vec<ObjectId>,
+}
+
 /// The UR5 as an [`Executor`] for the closed loop: pushes and grasps go to the link; after each trip
 /// the table is observed again and the objects gone from it count as carried.
 ///
@@ -255,8 +271,7 @@ pub struct Ur5<L: RobotLink> {
     runner: StepRunner<L>,
     observation: Observation,
     scene: Option<Scene>,
-    trips: usize,
-    pushes_this_trip: usize,
+    record: Vec<ExecutedTrip>,
 }
 
 impl<L: RobotLink> Ur5<L> {
@@ -266,14 +281,33 @@ impl<L: RobotLink> Ur5<L> {
             runner,
             observation,
             scene: None,
-            trips: 0,
-            pushes_this_trip: 0,
+            record: Vec::new(),
         }
     }
 
     /// The step runner (steps carried out, the link).
     pub fn runner(&self) -> &StepRunner<L> {
         &self.runner
+    }
+
+    /// The trips so far; the last one may be unfinished (no grasp yet) when the run stopped in it.
+    pub fn trips(&self) -> &[ExecutedTrip] {
+        &self.record
+    }
+
+    /// The trip under way: the last record while its grasp is pending, else a new one.
+    fn current_trip(&mut self) -> Result<&mut ExecutedTrip> {
+        if self.record.last().is_none_or(|t| t.grasp.is_some()) {
+            let scene = self.scene()?.to_spec();
+            self.record.push(ExecutedTrip {
+                scene,
+                pushes: Vec::new(),
+                grasp: None,
+                carried: Vec::new(),
+            });
+        }
+        let last = self.record.len() - 1;
+        Ok(&mut self.record[last])
     }
 
     fn scene(&self) -> Result<&Scene> {
@@ -294,30 +328,35 @@ impl<L: RobotLink> Executor for Ur5<L> {
     }
 
     fn push(&mut self, push: &Push) -> Result<()> {
-        self.pushes_this_trip += 1;
-        let name = format!("trip {}, push {}", self.trips + 1, self.pushes_this_trip);
+        let done = self.current_trip()?.pushes.len();
+        let name = format!("trip {}, push {}", self.record.len(), done + 1);
         let steps = self
             .runner
             .translator()
             .fork_push(self.scene()?, push, &name);
-        self.runner.run(steps)
+        self.runner.run(steps)?;
+        self.current_trip()?.pushes.push(push.clone());
+        Ok(())
     }
 
     fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
-        self.trips += 1;
-        self.pushes_this_trip = 0;
-        let name = format!("trip {}, grasp", self.trips);
+        self.current_trip()?;
+        let name = format!("trip {}, grasp", self.record.len());
         let steps = self
             .runner
             .translator()
             .grasp_and_trip(self.scene()?, grasp, &name);
         self.runner.run(steps)?;
+        self.current_trip()?.grasp = Some(grasp.clone());
         let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();
         let after = self.observation.read()?;
-        let carried = before
+        let carried: Vec<ObjectId> = before
             .into_iter()
             .filter(|id| after.objects().iter().all(|o| o.id != *id))
             .collect();
+        if let Some(trip) = self.record.last_mut() {
+            trip.carried.clone_from(&carried);
+        }
         self.scene = Some(after);
         Ok(carried)
     }
