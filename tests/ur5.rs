@@ -616,3 +616,46 @@ fn a_closed_loop_that_stops_keeps_its_trips() {
     }
     assert_eq!(gripper_moves(&gripper).len(), 6);
 }
+
+#[test]
+fn the_cli_runs_a_closed_loop_on_the_fakes() {
+    let (observation, reference, _) = replayed_observations("ur5-cli-closed-loop");
+    let Observation::Command(command) = observation else {
+        unreachable!("replayed observations come from a command")
+    };
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let dir = scratch("ur5-cli-closed-loop-out");
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
+    let out = pushmog(&[
+        "execute",
+        "--robot",
+        robot.to_str().unwrap(),
+        "--observe-command",
+        &command,
+        "--policy",
+        "push-mog",
+        "--seed",
+        "5",
+        "--execute",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("status            cleared"), "{stdout}");
+    let run: Plan = pushmog::json::from_json(
+        &std::fs::read_to_string(dir.join("run.json")).unwrap(),
+        "run",
+    )
+    .unwrap();
+    assert_eq!(run.trips.len(), reference.trips.len());
+    assert_eq!(run.executor, "ur5");
+    assert!(dir.join("executed-trips.json").is_file());
+    assert!(!controller.programs().is_empty());
+}
