@@ -322,8 +322,10 @@ impl<L: RobotLink> Executor for Ur5<L> {
         "ur5"
     }
 
+    /// Starts a new run on `scene` (the first observation); the trip record starts afresh.
     fn reset(&mut self, scene: &Scene) -> Result<()> {
         self.scene = Some(scene.clone());
+        self.record.clear();
         Ok(())
     }
 
