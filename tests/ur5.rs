@@ -1,6 +1,9 @@
 //! The UR5 executor against loopback fakes of the controller and the Robotiq URCap socket: whole plans
 //! step by step, scripted faults, calibration, the safety envelope and the golden URScript.
 
+use std::path::Path;
+use std::process::Output;
+
 use nalgebra::{Rotation3, Vector3};
 use pushmog::error::Error;
 use pushmog::exec::Ideal;
@@ -270,22 +273,28 @@ fn the_envelope_refuses_before_any_byte_is_sent() {
     assert!(error.to_string().contains("exceeds the limit"), "{error}");
 }
 
+/// Writes `config` as `dir/robot.toml` and runs `pushmog execute <fixture plan> --robot robot.toml`
+/// with `extra` arguments.
+fn execute_fixture_plan(config: &RobotConfig, dir: &Path, extra: &[&str]) -> Output {
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(config).unwrap()).unwrap();
+    let plan = fixture("ur5/plan.json");
+    let mut args = vec![
+        "execute",
+        plan.to_str().unwrap(),
+        "--robot",
+        robot.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    pushmog(&args)
+}
+
 #[test]
 fn the_cli_refuses_an_unsafe_plan_without_connecting() {
     let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
     let mut config = config_for(&controller, &gripper);
     config.safety.max[2] = 0.15; // the bin at z = 0.2 is now outside
-    let dir = scratch("ur5-cli-refuse");
-    let robot = dir.join("robot.toml");
-    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
-    let plan = fixture("ur5/plan.json");
-    let out = pushmog(&[
-        "execute",
-        plan.to_str().unwrap(),
-        "--robot",
-        robot.to_str().unwrap(),
-        "--execute",
-    ]);
+    let out = execute_fixture_plan(&config, &scratch("ur5-cli-refuse"), &["--execute"]);
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -301,18 +310,8 @@ fn the_cli_executes_a_plan_on_the_fakes_and_dry_runs_by_default() {
     let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
     let config = config_for(&controller, &gripper);
     let dir = scratch("ur5-cli");
-    let robot = dir.join("robot.toml");
-    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
-    let plan = fixture("ur5/plan.json");
     let out_dir = dir.join("dry");
-    let dry = pushmog(&[
-        "execute",
-        plan.to_str().unwrap(),
-        "--robot",
-        robot.to_str().unwrap(),
-        "--out",
-        out_dir.to_str().unwrap(),
-    ]);
+    let dry = execute_fixture_plan(&config, &dir, &["--out", out_dir.to_str().unwrap()]);
     assert!(
         dry.status.success(),
         "{}",
@@ -325,15 +324,11 @@ fn the_cli_executes_a_plan_on_the_fakes_and_dry_runs_by_default() {
     assert_eq!(gripper.connections(), 0);
 
     let live_dir = dir.join("live");
-    let live = pushmog(&[
-        "execute",
-        plan.to_str().unwrap(),
-        "--robot",
-        robot.to_str().unwrap(),
-        "--execute",
-        "--out",
-        live_dir.to_str().unwrap(),
-    ]);
+    let live = execute_fixture_plan(
+        &config,
+        &dir,
+        &["--execute", "--out", live_dir.to_str().unwrap()],
+    );
     assert!(
         live.status.success(),
         "{}",
@@ -361,18 +356,11 @@ fn the_cli_reports_a_fault_and_keeps_the_record_of_completed_steps() {
     );
     let config = config_for(&controller, &gripper);
     let dir = scratch("ur5-cli-fault");
-    let robot = dir.join("robot.toml");
-    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
-    let plan = fixture("ur5/plan.json");
-    let out = pushmog(&[
-        "execute",
-        plan.to_str().unwrap(),
-        "--robot",
-        robot.to_str().unwrap(),
-        "--execute",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let out = execute_fixture_plan(
+        &config,
+        &dir,
+        &["--execute", "--out", dir.to_str().unwrap()],
+    );
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("robot stopped at step 3"), "{stderr}");

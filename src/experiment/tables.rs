@@ -150,6 +150,19 @@ fn varies(groups: &[GroupSummary]) -> (bool, bool) {
     )
 }
 
+/// The cells after the policy that tell groups apart: the object count and the bin distance, each
+/// only when it varies in the log.
+fn key_cells(group: &GroupSummary, by_objects: bool, by_bin: bool) -> Vec<String> {
+    let mut cells = Vec::new();
+    if by_objects {
+        cells.push(group.objects.to_string());
+    }
+    if by_bin {
+        cells.push(format!("{:.2}", group.bin_distance));
+    }
+    cells
+}
+
 /// The results table in Markdown (no wall-clock columns).
 pub fn results_markdown(log: &Log) -> String {
     let groups = summarise(log);
@@ -179,11 +192,8 @@ pub fn results_markdown(log: &Log) -> String {
     let _ = writeln!(out, "{rule}");
     for g in &groups {
         let mut line = format!("| {} |", g.policy);
-        if by_objects {
-            let _ = write!(line, " {} |", g.objects);
-        }
-        if by_bin {
-            let _ = write!(line, " {:.2} |", g.bin_distance);
+        for cell in key_cells(g, by_objects, by_bin) {
+            let _ = write!(line, " {cell} |");
         }
         let paper =
             paper_reference(g).map_or("–".to_string(), |(m, s)| format!("{m:.3} ± {s:.3}"));
@@ -316,11 +326,8 @@ pub fn results_latex(log: &Log) -> String {
     );
     for g in &groups {
         let mut line = tex(&g.policy);
-        if by_objects {
-            let _ = write!(line, " & {}", g.objects);
-        }
-        if by_bin {
-            let _ = write!(line, " & {:.2}", g.bin_distance);
+        for cell in key_cells(g, by_objects, by_bin) {
+            let _ = write!(line, " & {cell}");
         }
         let paper =
             paper_reference(g).map_or("--".to_string(), |(m, s)| format!("${m:.3} \\pm {s:.3}$"));

@@ -110,12 +110,13 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 .first()
                 .map(|t| Scene::new(t.scene.clone()))
                 .transpose()?;
+            let steps = plan_steps(&translator, &plan)?;
+            // Refuse an unsafe plan before writing or connecting anything.
+            translator.check(&steps, 0)?;
             if args.execute {
-                // Refuse an unsafe plan before even connecting.
-                translator.check(&plan_steps(&translator, &plan)?, 0)?;
                 let mut runner =
                     StepRunner::new(translator, connect(&config)?).with_progress(print_step);
-                let outcome = execute_plan(&mut runner, &plan);
+                let outcome = runner.run(steps);
                 write_record(runner.steps(), outcome.as_ref().err(), &args.out)?;
                 outcome?;
                 println!(
@@ -125,8 +126,6 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 );
                 Ok(())
             } else {
-                let steps = plan_steps(&translator, &plan)?;
-                translator.check(&steps, 0)?;
                 write_dry_run(&translator, scene.as_ref(), &steps, &args.out)
             }
         }

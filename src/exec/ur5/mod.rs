@@ -36,10 +36,10 @@ pub use config::{
     SafetyConfig, SpeedsConfig, TimeoutsConfig,
 };
 pub use link::{DryRun, Fault, Live, RobotLink};
-pub use motion::{Action, LinearMove, Step, ToolPose, Translator, move_duration};
+pub use motion::{Action, LinearMove, Phase, Step, ToolPose, Translator, move_duration};
 pub use rtde::RobotState;
 pub use tool_path::tool_path_svg;
-pub use urscript::{gripper_command, listing, program, step_list};
+pub use urscript::{gripper_command, gripper_line, listing, motion_program, program, step_list};
 
 use crate::error::{Error, Result};
 use crate::exec::Executor;
@@ -165,13 +165,17 @@ impl<L: RobotLink> StepRunner<L> {
                     self.next_token = Some(token.wrapping_add(1).max(1));
                     let expected = self.expected_duration(moves);
                     let text =
-                        program(self.translator.config(), &step, index, token).unwrap_or_default();
+                        motion_program(self.translator.config(), &step.label, moves, index, token);
                     self.link.run_program(&text, token, expected)
                 }
-                Action::Gripper { position, .. } => {
-                    let command = gripper_command(&step).unwrap_or_default();
-                    self.link.run_gripper(&command, *position).map(|_| ())
-                }
+                &Action::Gripper {
+                    position,
+                    speed,
+                    force,
+                } => self
+                    .link
+                    .run_gripper(&gripper_line(position, speed, force), position)
+                    .map(|_| ()),
             };
             if let Err(reason) = outcome {
                 self.stopped = Some(reason.clone());

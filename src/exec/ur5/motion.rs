@@ -63,11 +63,41 @@ pub enum Action {
     },
 }
 
+/// Which part of a fork push or a grasp a step carries out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Phase {
+    /// Fork push: open the jaws to the fork opening.
+    OpenForPush,
+    /// Fork push: move above the approach point.
+    AbovePush,
+    /// Fork push: descend to push height.
+    DescendToPush,
+    /// Fork push: the straight line that moves the object.
+    Push,
+    /// Fork push: rise after the push.
+    RiseFromPush,
+    /// Grasp: move above the grasp centre.
+    AboveGrasp,
+    /// Grasp: open fully.
+    Open,
+    /// Grasp: descend to grasp height.
+    Descend,
+    /// Grasp: close with limited force.
+    Close,
+    /// Grasp: rise and move over the bin.
+    ToBin,
+    /// Grasp: open over the bin.
+    Drop,
+}
+
 /// One robot step with a readable label (`trip 2, push 1 of 3: descend to mid-height`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Step {
     /// What the step is for.
     pub label: String,
+    /// Which part of a push or grasp it is.
+    pub phase: Phase,
     /// What it does.
     pub action: Action,
 }
@@ -161,16 +191,18 @@ impl Translator {
         }
     }
 
-    fn moves(label: String, moves: Vec<LinearMove>) -> Step {
+    fn moves(phase: Phase, label: String, moves: Vec<LinearMove>) -> Step {
         Step {
             label,
+            phase,
             action: Action::Move { moves },
         }
     }
 
-    fn gripper(&self, label: String, position: u8) -> Step {
+    fn gripper(&self, phase: Phase, label: String, position: u8) -> Step {
         Step {
             label,
+            phase,
             action: Action::Gripper {
                 position,
                 speed: self.config.gripper.speed,
@@ -189,6 +221,7 @@ impl Translator {
         let pose = |p: nalgebra::Point2<f64>, z| self.tool_pose(p.x, p.y, z, fork.jaw_angle);
         vec![
             self.gripper(
+                Phase::OpenForPush,
                 format!(
                     "{name}: open to the fork opening ({:.1} mm between plate centres)",
                     opening * 1e3
@@ -196,10 +229,12 @@ impl Translator {
                 self.config.gripper.count_for_opening(opening),
             ),
             Self::moves(
+                Phase::AbovePush,
                 format!("{name}: move above the start"),
                 vec![self.travel(pose(fork.approach, travel))],
             ),
             Self::moves(
+                Phase::DescendToPush,
                 format!(
                     "{name}: descend to mid-height of object {} ({:.1} mm)",
                     push.object,
@@ -208,10 +243,12 @@ impl Translator {
                 vec![self.contact(pose(fork.approach, mid), vertical)],
             ),
             Self::moves(
+                Phase::Push,
                 format!("{name}: push {:.1} mm to the end", push.distance * 1e3),
                 vec![self.contact(pose(fork.end, mid), self.config.speeds.push)],
             ),
             Self::moves(
+                Phase::RiseFromPush,
                 format!("{name}: rise"),
                 vec![self.contact(pose(fork.end, travel), vertical)],
             ),
@@ -236,26 +273,32 @@ impl Translator {
             .join(", ");
         vec![
             Self::moves(
+                Phase::AboveGrasp,
                 format!("{name}: move above the grasp of objects [{objects}]"),
                 vec![self.travel(pose(travel))],
             ),
             self.gripper(
+                Phase::Open,
                 format!("{name}: open fully"),
                 self.config.gripper.open_count,
             ),
             Self::moves(
+                Phase::Descend,
                 format!("{name}: descend"),
                 vec![self.contact(pose(self.config.heights.grasp), vertical)],
             ),
             self.gripper(
+                Phase::Close,
                 format!("{name}: close with limited force"),
                 self.config.gripper.closed_count,
             ),
             Self::moves(
+                Phase::ToBin,
                 format!("{name}: move to the bin"),
                 vec![self.contact(pose(travel), vertical), self.travel(over_bin)],
             ),
             self.gripper(
+                Phase::Drop,
                 format!("{name}: open to drop"),
                 self.config.gripper.open_count,
             ),

@@ -56,7 +56,8 @@ pub struct RobotState {
 }
 
 impl RobotState {
-    /// Encodes the state as a data package payload (recipe id 1), for the fake controller.
+    /// Encodes the state as a data package payload for output recipe `recipe`, for the fake
+    /// controller.
     pub fn encode(&self, recipe: u8) -> Vec<u8> {
         let mut payload = vec![recipe];
         payload.extend(self.timestamp.to_be_bytes());

@@ -3,7 +3,7 @@
 
 use nalgebra::Point2;
 
-use super::motion::{Action, Step, Translator};
+use super::motion::{Action, Phase, Step, Translator};
 use crate::render::{Canvas, Style};
 use crate::scene::Scene;
 
@@ -63,7 +63,7 @@ pub fn tool_path_svg(translator: &Translator, scene: &Scene, steps: &[Step]) -> 
         let Action::Move { moves } = &step.action else {
             continue;
         };
-        let is_push = step.label.contains(": push ");
+        let is_push = step.phase == Phase::Push;
         for m in moves {
             let to = Point2::new(m.to.position[0], m.to.position[1]);
             if let Some(f) = from {

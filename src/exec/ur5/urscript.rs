@@ -8,7 +8,7 @@
 use std::fmt::Write;
 
 use super::config::RobotConfig;
-use super::motion::{Action, Step};
+use super::motion::{Action, LinearMove, Step};
 
 /// A UR pose literal with five decimals (10 µm, 10 µrad); values that round to zero print as `0.00000`,
 /// never `-0.00000`.
@@ -26,25 +26,31 @@ fn pose_literal(values: [f64; 6]) -> String {
 /// The URScript program of a motion step (`None` for a gripper step): `index` names the program and
 /// `token` is written to the done register at its end.
 pub fn program(config: &RobotConfig, step: &Step, index: usize, token: i32) -> Option<String> {
-    let Action::Move { moves } = &step.action else {
-        return None;
-    };
+    match &step.action {
+        Action::Move { moves } => Some(motion_program(config, &step.label, moves, index, token)),
+        Action::Gripper { .. } => None,
+    }
+}
+
+/// The URScript program that runs `moves` and then writes `token` to the done register.
+pub fn motion_program(
+    config: &RobotConfig,
+    label: &str,
+    moves: &[LinearMove],
+    index: usize,
+    token: i32,
+) -> String {
     let mut text = String::new();
     let _ = writeln!(text, "def pushmog_step_{index:04}():");
-    let _ = writeln!(text, "  # {}", step.label);
+    let _ = writeln!(text, "  # {label}");
     let _ = writeln!(text, "  set_tcp({})", pose_literal(config.tcp));
     for m in moves {
+        let [x, y, z] = m.to.position;
+        let [rx, ry, rz] = m.to.rotation;
         let _ = writeln!(
             text,
             "  movel({}, a={:.3}, v={:.3})",
-            pose_literal([
-                m.to.position[0],
-                m.to.position[1],
-                m.to.position[2],
-                m.to.rotation[0],
-                m.to.rotation[1],
-                m.to.rotation[2]
-            ]),
+            pose_literal([x, y, z, rx, ry, rz]),
             m.acceleration,
             m.speed
         );
@@ -55,7 +61,7 @@ pub fn program(config: &RobotConfig, step: &Step, index: usize, token: i32) -> O
         config.controller.done_register
     );
     let _ = writeln!(text, "end");
-    Some(text)
+    text
 }
 
 /// The URCap socket line of a gripper step (`None` for a motion step).
@@ -65,9 +71,14 @@ pub fn gripper_command(step: &Step) -> Option<String> {
             position,
             speed,
             force,
-        } => Some(format!("SET POS {position} SPE {speed} FOR {force} GTO 1")),
+        } => Some(gripper_line(position, speed, force)),
         Action::Move { .. } => None,
     }
+}
+
+/// The URCap socket line that moves the fingers to `position` with `speed` and `force`.
+pub fn gripper_line(position: u8, speed: u8, force: u8) -> String {
+    format!("SET POS {position} SPE {speed} FOR {force} GTO 1")
 }
 
 /// Every step of a run as one listing: the motion programs in order (tokens 1, 2, …) with each
