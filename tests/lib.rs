@@ -12,4 +12,5 @@ mod pushing_socp;
 mod scene_json;
 mod sim;
 mod support;
+mod time_model;
 mod ur5;

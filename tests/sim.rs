@@ -1,7 +1,7 @@
 //! The physics simulator: grasps that lift, grasps that cannot, pushes that land where planned.
 
 use nalgebra::Point2;
-use pushmog::exec::{Executor, Sim, SimSettings};
+use pushmog::exec::{Executor, FingerDrive, Sim, SimSettings};
 use pushmog::geometry::ConvexPolygon;
 use pushmog::grasp::{Grasp, GraspPlanner, JawPose, MultiObject, SingleObject};
 use pushmog::push::{PushPlanner, TowardCentral};
@@ -46,7 +46,7 @@ fn a_single_object_grasp_lifts_the_object() {
         .unwrap();
     let mut sim = sim();
     sim.reset(&s).unwrap();
-    assert_eq!(sim.grasp(&grasp).unwrap(), vec![ObjectId(0)]);
+    assert_eq!(sim.grasp(&grasp).unwrap().carried, vec![ObjectId(0)]);
     assert!(sim.observe().unwrap().is_empty());
 }
 
@@ -64,9 +64,90 @@ fn two_cubes_side_by_side_are_lifted_together() {
     assert_eq!(grasp.objects.len(), 2);
     let mut sim = sim();
     sim.reset(&s).unwrap();
-    let mut carried = sim.grasp(&grasp).unwrap();
+    let mut carried = sim.grasp(&grasp).unwrap().carried;
     carried.sort();
     assert_eq!(carried, vec![ObjectId(0), ObjectId(1)]);
+}
+
+/// The 2F-85 closes both fingers from one motor: a cube lying off the gripper's centre is met by one
+/// finger first and pushed to the centre before the other finger arrives, then both hold it.
+#[test]
+fn a_finger_touching_first_pushes_a_cube_to_the_centre() {
+    let s = scene(vec![(square(0.03), 0.2, 0.15, 0.0)]);
+    let centre = Point2::new(0.215, 0.15);
+    let grasp = Grasp {
+        jaws: JawPose {
+            center: centre,
+            angle: 0.0,
+            opening: 0.085,
+        },
+        objects: vec![ObjectId(0)],
+        width: 0.03,
+        margin: 0.0,
+    };
+    let mut sim = sim();
+    sim.reset(&s).unwrap();
+    // The cube is 15 mm left of the centre: the left plate face (at 0.1775 m) is 7.5 mm from it,
+    // the right one (at 0.2525 m) 37.5 mm.
+    let closing = sim.close_and_release(&grasp).unwrap();
+    assert!(closing.landing.is_none());
+    let cube = closing.poses[0].1;
+    println!(
+        "closed at {:.2} mm between plate centres; cube centre at x = {:.2} mm",
+        closing.opening * 1e3,
+        cube.x * 1e3
+    );
+    assert!(
+        (cube.x - centre.x).abs() < 0.001 && (cube.y - centre.y).abs() < 0.001,
+        "the cube should be held at the gripper's centre, not at {cube:?}"
+    );
+    assert!(
+        (closing.opening - 0.04).abs() < 0.002,
+        "{}",
+        closing.opening
+    );
+    sim.reset(&s).unwrap();
+    let result = sim.grasp(&grasp).unwrap();
+    assert_eq!(result.carried, vec![ObjectId(0)]);
+    assert!(result.landing.is_none());
+}
+
+/// A plate lowered onto an object's edge comes down on top of it: the grasp stops there, the object
+/// is not carried (whatever physics did to it), and the landing is reported.
+#[test]
+fn a_plate_placed_on_an_edge_fails_the_grasp_without_carrying() {
+    let s = scene(vec![(square(0.03), 0.2, 0.15, 0.0)]);
+    // The right plate (10 mm thick) is centred on the cube's right edge at x = 0.215.
+    let grasp = Grasp {
+        jaws: JawPose {
+            center: Point2::new(0.215 - 0.0425, 0.15),
+            angle: 0.0,
+            opening: 0.085,
+        },
+        objects: vec![ObjectId(0)],
+        width: 0.03,
+        margin: 0.0,
+    };
+    for drive in [FingerDrive::Coupled, FingerDrive::Independent] {
+        let mut sim = Sim::new(
+            SimSettings {
+                fingers: drive,
+                ..SimSettings::noiseless()
+            },
+            1,
+        )
+        .unwrap();
+        sim.reset(&s).unwrap();
+        let result = sim.grasp(&grasp).unwrap();
+        assert!(result.carried.is_empty(), "{drive:?}: {result:?}");
+        assert_eq!(
+            result.landing.map(|l| l.object),
+            Some(ObjectId(0)),
+            "{drive:?}"
+        );
+        // Still on the table, as physics left it.
+        assert_eq!(sim.observe().unwrap().len() + sim.lost().len(), 1);
+    }
 }
 
 #[test]
@@ -84,7 +165,7 @@ fn an_empty_grasp_carries_nothing_and_leaves_the_table_alone() {
     };
     let mut sim = sim();
     sim.reset(&s).unwrap();
-    assert!(sim.grasp(&grasp).unwrap().is_empty());
+    assert!(sim.grasp(&grasp).unwrap().carried.is_empty());
     let after = sim.observe().unwrap();
     assert!((after.objects()[0].pose.x - 0.1).abs() < 1e-4);
 }
@@ -117,7 +198,7 @@ fn three_equilateral_triangles_are_never_attempted_together() {
     };
     let mut sim = sim();
     sim.reset(&s).unwrap();
-    let carried = sim.grasp(&forced).unwrap();
+    let carried = sim.grasp(&forced).unwrap().carried;
     println!(
         "physics carried {} of the three triangles when forced",
         carried.len()

@@ -78,9 +78,9 @@ impl<'a> CostModel<'a> {
         let pushes: f64 = estimated_pushes(self.scene, members)
             .into_iter()
             .filter(|&length| length >= self.min_push)
-            .map(|length| self.model.push_seconds(gripper, length))
+            .map(|length| self.model.nominal_push_seconds(gripper, length))
             .sum();
-        self.model.trip_seconds(gripper) + pushes
+        self.model.nominal_trip_seconds(gripper) + pushes
     }
 }
 

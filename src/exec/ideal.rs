@@ -6,7 +6,7 @@ use crate::grasp::{Grasp, GraspModel, Squeeze, squeeze};
 use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
-use super::Executor;
+use super::{Executor, GraspResult, Landing};
 
 /// Applies pushes and grasps exactly.
 #[derive(Clone, Debug, Default)]
@@ -38,7 +38,7 @@ impl Executor for Ideal {
         Ok(())
     }
 
-    fn push(&mut self, push: &Push) -> Result<()> {
+    fn push(&mut self, push: &Push) -> Result<Option<Landing>> {
         let scene = self.table()?;
         let mut objects = scene.objects().to_vec();
         if let Some(object) = objects.iter_mut().find(|o| o.id == push.object) {
@@ -47,10 +47,10 @@ impl Executor for Ideal {
             object.pose.y += moved.y;
         }
         self.scene = Some(scene.with_objects(objects)?);
-        Ok(())
+        Ok(None)
     }
 
-    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
+    fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
         let scene = self.table()?;
         let carried: Vec<ObjectId> = match squeeze(scene, &grasp.jaws, &self.model) {
             Squeeze::Held { objects, .. } => {
@@ -59,7 +59,7 @@ impl Executor for Ideal {
             _ => Vec::new(),
         };
         self.scene = Some(scene.without(&carried));
-        Ok(carried)
+        Ok(GraspResult::carried(carried))
     }
 
     fn observe(&mut self) -> Result<Scene> {

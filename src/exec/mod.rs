@@ -9,13 +9,42 @@ mod ideal;
 pub mod sim;
 pub mod ur5;
 
+use serde::{Deserialize, Serialize};
+
 use crate::error::Result;
 use crate::grasp::Grasp;
 use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
 pub use ideal::Ideal;
-pub use sim::{Sim, SimSettings};
+pub use sim::{Closing, FingerDrive, Sim, SimSettings};
+
+/// A finger or plate came down on top of an object while the gripper descended, so the action was
+/// stopped there (a real arm would have been stopped, or would have crushed the object).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Landing {
+    /// The object landed on.
+    pub object: ObjectId,
+}
+
+/// What a grasp did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct GraspResult {
+    /// Objects carried to the bin (empty for a failed grasp).
+    pub carried: Vec<ObjectId>,
+    /// Set when the descent stopped on an object; nothing is carried then.
+    pub landing: Option<Landing>,
+}
+
+impl GraspResult {
+    /// A grasp that went as far as the lift and carried `carried`.
+    pub fn carried(carried: Vec<ObjectId>) -> Self {
+        Self {
+            carried,
+            landing: None,
+        }
+    }
+}
 
 /// Something that carries out pushes and grasps.
 pub trait Executor {
@@ -28,19 +57,19 @@ pub trait Executor {
     /// When the executor cannot represent the scene.
     fn reset(&mut self, scene: &Scene) -> Result<()>;
 
-    /// Carries out one fork push.
+    /// Carries out one fork push; returns the landing that stopped it, if its fingers came down on an
+    /// object.
     ///
     /// # Errors
     /// Environment faults only (a lost robot link); a push that goes badly shows in the next
     /// observation.
-    fn push(&mut self, push: &Push) -> Result<()>;
+    fn push(&mut self, push: &Push) -> Result<Option<Landing>>;
 
-    /// Closes the jaws as planned, lifts and carries what it holds to the bin; returns the ids carried
-    /// (empty for a failed grasp).
+    /// Lowers the open jaws, closes them as planned, lifts and carries what they hold to the bin.
     ///
     /// # Errors
     /// Environment faults only.
-    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>>;
+    fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult>;
 
     /// The table as the executor sees it now.
     ///

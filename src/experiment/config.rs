@@ -21,13 +21,15 @@
 //!
 //! [sweep]
 //! bin_distance = [0.3]              # metres; each value is a variant of every run
+//! friction = [0.4, 0.8]             # the simulator's pad and object friction; a variant each
 //!
 //! [[policies]]
 //! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
 //! settings = { }                    # policy settings (any subset)
 //! ```
 //!
-//! Runs are numbered in a fixed order — object count, scene, sweep value, policy, repetition — so a
+//! Runs are numbered in a fixed order — object count, scene, bin distance, friction, policy,
+//! repetition — so a
 //! configuration always expands to the same list, which is what makes logs resumable and shardable.
 
 use std::path::{Path, PathBuf};
@@ -143,6 +145,11 @@ pub struct SweepConfig {
     /// Distances to the bin, metres; empty keeps the policies' own.
     #[serde(default)]
     pub bin_distance: Vec<f64>,
+    /// Coulomb friction at the simulator's finger pads and between objects (`friction_finger` and
+    /// `friction_object` together); empty keeps the executor's settings. The planners' grasp models
+    /// keep their own friction: this varies the world, not what the planner believes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub friction: Vec<f64>,
 }
 
 /// One policy of the comparison.
@@ -179,6 +186,8 @@ pub struct RunSpec {
     pub scene_seed: u64,
     /// Bin distance, when swept.
     pub bin_distance: Option<f64>,
+    /// Pad and object friction in the simulator, when swept.
+    pub friction: Option<f64>,
     /// Index into `policies`.
     pub policy: usize,
     /// Repetition.
@@ -247,6 +256,25 @@ impl ExperimentConfig {
                 "must be non-negative metres",
             ));
         }
+        if self
+            .sweep
+            .friction
+            .iter()
+            .any(|f| !(f.is_finite() && *f >= 0.0))
+        {
+            return Err(Error::field(
+                component,
+                "sweep.friction",
+                "must be non-negative friction coefficients",
+            ));
+        }
+        if !self.sweep.friction.is_empty() && self.executor.kind != ExecutorKind::Sim {
+            return Err(Error::field(
+                component,
+                "sweep.friction",
+                "sweeps the simulator's friction: needs `executor.kind = \"sim\"`",
+            ));
+        }
         self.executor.settings.validate()?;
         for policy in &self.policies {
             policy.settings.validate()?;
@@ -256,27 +284,39 @@ impl ExperimentConfig {
 
     /// Every run, numbered.
     pub fn runs(&self) -> Vec<RunSpec> {
-        let sweep: Vec<Option<f64>> = if self.sweep.bin_distance.is_empty() {
-            vec![None]
-        } else {
-            self.sweep.bin_distance.iter().copied().map(Some).collect()
+        let values = |swept: &[f64]| -> Vec<Option<f64>> {
+            if swept.is_empty() {
+                vec![None]
+            } else {
+                swept.iter().copied().map(Some).collect()
+            }
         };
+        let (bins, frictions) = (
+            values(&self.sweep.bin_distance),
+            values(&self.sweep.friction),
+        );
         let mut runs = Vec::new();
         for &objects in &self.scenes.objects {
             for scene in 0..self.scenes.count as u64 {
-                for &bin_distance in &sweep {
-                    for policy in 0..self.policies.len() {
-                        for repetition in 0..self.repetitions {
-                            let id = runs.len();
-                            runs.push(RunSpec {
-                                id,
-                                objects,
-                                scene_seed: self.scenes.first_seed + scene,
-                                bin_distance,
-                                policy,
-                                repetition,
-                                run_seed: self.seed.wrapping_mul(1_000_003).wrapping_add(id as u64),
-                            });
+                for &bin_distance in &bins {
+                    for &friction in &frictions {
+                        for policy in 0..self.policies.len() {
+                            for repetition in 0..self.repetitions {
+                                let id = runs.len();
+                                runs.push(RunSpec {
+                                    id,
+                                    objects,
+                                    scene_seed: self.scenes.first_seed + scene,
+                                    bin_distance,
+                                    friction,
+                                    policy,
+                                    repetition,
+                                    run_seed: self
+                                        .seed
+                                        .wrapping_mul(1_000_003)
+                                        .wrapping_add(id as u64),
+                                });
+                            }
                         }
                     }
                 }
@@ -324,9 +364,13 @@ impl ExperimentConfig {
         settings
     }
 
-    /// The simulator's settings (noise removed when `noise` is off).
-    pub fn sim_settings(&self) -> SimSettings {
-        let settings = self.executor.settings.clone();
+    /// The simulator's settings (noise removed when `noise` is off; friction as swept).
+    pub fn sim_settings(&self, friction: Option<f64>) -> SimSettings {
+        let mut settings = self.executor.settings.clone();
+        if let Some(friction) = friction {
+            settings.friction_finger = friction;
+            settings.friction_object = friction;
+        }
         if self.executor.noise {
             settings
         } else {

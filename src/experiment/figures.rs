@@ -245,6 +245,22 @@ pub fn picks_per_hour_svg(log: &Log) -> Result<String> {
     )
 }
 
+/// Objects per trip against the simulator's pad and object friction, one line per policy.
+///
+/// # Errors
+/// A drawing failure, or a log without rows.
+pub fn friction_svg(log: &Log) -> Result<String> {
+    lines_svg(
+        log,
+        "Objects per trip against friction (simulated)",
+        "pad and object friction",
+        "objects per trip",
+        |g| g.friction.unwrap_or(f64::NAN),
+        |g| g.opt.0,
+        false,
+    )
+}
+
 /// Median clustering time against the number of objects, one line per policy (log scale).
 ///
 /// # Errors

@@ -68,6 +68,9 @@ pub struct LogRow {
     pub policy: String,
     /// Bin distance of the run's time model, metres.
     pub bin_distance: f64,
+    /// Pad and object friction of the simulator, when the configuration sweeps it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
     /// Repetition.
     pub repetition: usize,
     /// Seed of the run's choices and noise.
@@ -86,6 +89,9 @@ pub struct LogRow {
     pub push_distance: f64,
     /// Trips that carried nothing.
     pub failed_grasps: usize,
+    /// Trips stopped because the gripper came down on an object.
+    #[serde(default)]
+    pub landings: usize,
     /// Planning attempts that found no grasp.
     pub failed_attempts: usize,
     /// Whether the table was cleared.

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::figures::{opt_per_policy_svg, picks_per_hour_svg, planning_time_svg};
+use super::figures::{friction_svg, opt_per_policy_svg, picks_per_hour_svg, planning_time_svg};
 use super::log::Log;
 use super::tables::{results_csv, results_latex, results_markdown, timing_csv, timing_markdown};
 use crate::error::Result;
@@ -17,8 +17,8 @@ pub struct ReportPaths {
 }
 
 /// Writes the tables of `log` to `tables` (as `<name>.md`, `.csv`, `.tex`, and `<name>-timing.*`)
-/// and its figures to `figures` (`<name>-opt.svg`, and the bin-distance or object-count plot when the
-/// log sweeps those).
+/// and its figures to `figures` (`<name>-opt.svg`, and the bin-distance, friction or object-count plot
+/// when the log sweeps those).
 ///
 /// # Errors
 /// I/O and drawing errors.
@@ -47,6 +47,12 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
         put(
             figures.join(format!("{name}-picks-per-hour.svg")),
             picks_per_hour_svg(log)?,
+        )?;
+    }
+    if config.sweep.friction.len() > 1 {
+        put(
+            figures.join(format!("{name}-friction.svg")),
+            friction_svg(log)?,
         )?;
     }
     if config.scenes.objects.len() > 1 {

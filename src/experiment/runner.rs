@@ -53,7 +53,7 @@ pub fn run_one(
     let policy = Policy::new(config.policies[spec.policy].name, settings)?;
     let mut executor: Box<dyn Executor> = match config.executor.kind {
         ExecutorKind::Ideal => Box::new(Ideal::new(policy.settings().multi.model.clone())),
-        ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(), spec.run_seed)?),
+        ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(spec.friction), spec.run_seed)?),
     };
     let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
     let (cleared, stop_reason, remaining) = match &plan.status {
@@ -66,6 +66,7 @@ pub fn run_one(
         scene_seed: spec.scene_seed,
         policy: config.policies[spec.policy].label(),
         bin_distance,
+        friction: spec.friction,
         repetition: spec.repetition,
         run_seed: spec.run_seed,
         executor: executor.name().to_string(),
@@ -75,6 +76,7 @@ pub fn run_one(
         pushes: plan.push_count(),
         push_distance: plan.push_distance(),
         failed_grasps: plan.failed_grasps(),
+        landings: plan.landings(),
         failed_attempts: plan.failed_attempts.len(),
         cleared,
         stop_reason,

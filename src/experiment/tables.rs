@@ -24,6 +24,8 @@ pub struct GroupSummary {
     pub objects: usize,
     /// Bin distance, metres.
     pub bin_distance: f64,
+    /// The simulator's pad and object friction, when swept.
+    pub friction: Option<f64>,
     /// Runs in the group.
     pub runs: usize,
     /// Objects per trip: mean and sample standard deviation over runs.
@@ -36,6 +38,8 @@ pub struct GroupSummary {
     pub push_distance: f64,
     /// Mean failed grasps.
     pub failed_grasps: f64,
+    /// Mean trips stopped by the gripper coming down on an object.
+    pub landings: f64,
     /// Runs that cleared the table.
     pub cleared: usize,
     /// Mean robot time, seconds.
@@ -64,7 +68,12 @@ fn mean_std(values: &[f64]) -> (f64, f64) {
     (m, var.sqrt())
 }
 
-/// Groups rows by object count, bin distance and policy, in the configuration's order.
+/// The bits of a row's swept friction, for grouping (`u64::MAX` when not swept).
+fn friction_key(friction: Option<f64>) -> u64 {
+    friction.map_or(u64::MAX, f64::to_bits)
+}
+
+/// Groups rows by object count, bin distance, friction and policy, in the configuration's order.
 pub fn summarise(log: &Log) -> Vec<GroupSummary> {
     let order: Vec<String> = log
         .header
@@ -73,13 +82,18 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
         .iter()
         .map(|p| p.label())
         .collect();
-    let mut keys: Vec<(usize, u64, usize)> = Vec::new();
+    let mut keys: Vec<(usize, u64, u64, usize)> = Vec::new();
     for row in &log.rows {
         let policy = order
             .iter()
             .position(|p| *p == row.policy)
             .unwrap_or(order.len());
-        let key = (row.objects, row.bin_distance.to_bits(), policy);
+        let key = (
+            row.objects,
+            row.bin_distance.to_bits(),
+            friction_key(row.friction),
+            policy,
+        );
         if !keys.contains(&key) {
             keys.push(key);
         }
@@ -87,16 +101,20 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
     keys.sort_by(|a, b| {
         a.0.cmp(&b.0)
             .then(f64::from_bits(a.1).total_cmp(&f64::from_bits(b.1)))
-            .then(a.2.cmp(&b.2))
+            .then(f64::from_bits(a.2).total_cmp(&f64::from_bits(b.2)))
+            .then(a.3.cmp(&b.3))
     });
     keys.into_iter()
-        .map(|(objects, bin, policy)| {
+        .map(|(objects, bin, friction, policy)| {
             let label = order.get(policy).cloned().unwrap_or_default();
             let rows: Vec<&LogRow> = log
                 .rows
                 .iter()
                 .filter(|r| {
-                    r.objects == objects && r.bin_distance.to_bits() == bin && r.policy == label
+                    r.objects == objects
+                        && r.bin_distance.to_bits() == bin
+                        && friction_key(r.friction) == friction
+                        && r.policy == label
                 })
                 .collect();
             let opt: Vec<f64> = rows.iter().map(|r| r.objects_per_trip).collect();
@@ -107,12 +125,14 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                 policy: label,
                 objects,
                 bin_distance: f64::from_bits(bin),
+                friction: (friction != u64::MAX).then(|| f64::from_bits(friction)),
                 runs: rows.len(),
                 opt: mean_std(&opt),
                 trips: mean(rows.iter().map(|r| r.trips as f64)),
                 pushes: mean(rows.iter().map(|r| r.pushes as f64)),
                 push_distance: mean(rows.iter().map(|r| r.push_distance)),
                 failed_grasps: mean(rows.iter().map(|r| r.failed_grasps as f64)),
+                landings: mean(rows.iter().map(|r| r.landings as f64)),
                 cleared: rows.iter().filter(|r| r.cleared).count(),
                 robot_seconds: mean(rows.iter().map(|r| r.robot_seconds)),
                 picks_per_hour: mean(rows.iter().map(|r| r.picks_per_hour)),
@@ -137,28 +157,43 @@ fn paper_reference(group: &GroupSummary) -> Option<(f64, f64)> {
         .map(|&(_, m, s)| (m, s))
 }
 
-/// Whether the groups differ in object count or bin distance (then those columns are shown).
-fn varies(groups: &[GroupSummary]) -> (bool, bool) {
-    let first = groups.first();
-    (
-        groups
-            .iter()
-            .any(|g| Some(g.objects) != first.map(|f| f.objects)),
-        groups
-            .iter()
-            .any(|g| Some(g.bin_distance.to_bits()) != first.map(|f| f.bin_distance.to_bits())),
-    )
+/// Which keys differ between the groups (those columns are shown).
+#[derive(Clone, Copy, Debug)]
+struct Varies {
+    objects: bool,
+    bin: bool,
+    friction: bool,
 }
 
-/// The cells after the policy that tell groups apart: the object count and the bin distance, each
-/// only when it varies in the log.
-fn key_cells(group: &GroupSummary, by_objects: bool, by_bin: bool) -> Vec<String> {
+fn varies(groups: &[GroupSummary]) -> Varies {
+    let first = groups.first();
+    Varies {
+        objects: groups
+            .iter()
+            .any(|g| Some(g.objects) != first.map(|f| f.objects)),
+        bin: groups
+            .iter()
+            .any(|g| Some(g.bin_distance.to_bits()) != first.map(|f| f.bin_distance.to_bits())),
+        friction: groups.iter().any(|g| g.friction.is_some()),
+    }
+}
+
+/// The cells after the policy that tell groups apart: the object count, the bin distance and the
+/// friction, each only when it varies in the log.
+fn key_cells(group: &GroupSummary, by: Varies) -> Vec<String> {
     let mut cells = Vec::new();
-    if by_objects {
+    if by.objects {
         cells.push(group.objects.to_string());
     }
-    if by_bin {
+    if by.bin {
         cells.push(format!("{:.2}", group.bin_distance));
+    }
+    if by.friction {
+        cells.push(
+            group
+                .friction
+                .map_or("–".to_string(), |f| format!("{f:.2}")),
+        );
     }
     cells
 }
@@ -166,7 +201,7 @@ fn key_cells(group: &GroupSummary, by_objects: bool, by_bin: bool) -> Vec<String
 /// The results table in Markdown (no wall-clock columns).
 pub fn results_markdown(log: &Log) -> String {
     let groups = summarise(log);
-    let (by_objects, by_bin) = varies(&groups);
+    let by = varies(&groups);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -178,28 +213,32 @@ pub fn results_markdown(log: &Log) -> String {
     let _ = writeln!(out);
     let mut head = String::from("| policy |");
     let mut rule = String::from("|---|");
-    if by_objects {
+    if by.objects {
         head.push_str(" objects |");
         rule.push_str("---:|");
     }
-    if by_bin {
+    if by.bin {
         head.push_str(" bin distance (m) |");
         rule.push_str("---:|");
     }
-    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | cleared | robot time (s) | picks per hour |");
-    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    if by.friction {
+        head.push_str(" friction |");
+        rule.push_str("---:|");
+    }
+    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | landings | cleared | robot time (s) | picks per hour |");
+    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     let _ = writeln!(out, "{head}");
     let _ = writeln!(out, "{rule}");
     for g in &groups {
         let mut line = format!("| {} |", g.policy);
-        for cell in key_cells(g, by_objects, by_bin) {
+        for cell in key_cells(g, by) {
             let _ = write!(line, " {cell} |");
         }
         let paper =
             paper_reference(g).map_or("–".to_string(), |(m, s)| format!("{m:.3} ± {s:.3}"));
         let _ = writeln!(
             line,
-            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {}/{} | {:.1} | {:.0} |",
+            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {:.2} | {}/{} | {:.1} | {:.0} |",
             g.runs,
             g.opt.0,
             g.opt.1,
@@ -207,6 +246,7 @@ pub fn results_markdown(log: &Log) -> String {
             g.pushes,
             g.push_distance,
             g.failed_grasps,
+            g.landings,
             g.cleared,
             g.runs,
             g.robot_seconds,
@@ -227,16 +267,25 @@ fn executor_name(log: &Log) -> &'static str {
 /// The wall-clock table in Markdown (planning and clustering times; machine-dependent).
 pub fn timing_markdown(log: &Log) -> String {
     let groups = summarise(log);
+    let by_friction = varies(&groups).friction;
     let mut out = format!(
         "{} — planning times on {} (wall-clock, not reproducible)\n\n",
         log.header.config.name, log.header.machine
     );
-    out.push_str("| policy | objects | bin distance (m) | planning median (ms) | planning p95 (ms) | clustering median (ms) |\n");
-    out.push_str("|---|---:|---:|---:|---:|---:|\n");
+    out.push_str("| policy | objects | bin distance (m) |");
+    out.push_str(if by_friction { " friction |" } else { "" });
+    out.push_str(" planning median (ms) | planning p95 (ms) | clustering median (ms) |\n");
+    out.push_str("|---|---:|---:|");
+    out.push_str(if by_friction { "---:|" } else { "" });
+    out.push_str("---:|---:|---:|\n");
     for g in &groups {
+        let friction = match (by_friction, g.friction) {
+            (false, _) => String::new(),
+            (true, f) => format!(" {} |", f.map_or("–".to_string(), |f| format!("{f:.2}"))),
+        };
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.3} |",
+            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} |",
             g.policy,
             g.objects,
             g.bin_distance,
@@ -251,16 +300,17 @@ pub fn timing_markdown(log: &Log) -> String {
 /// The results as CSV (one line per group; no wall-clock columns).
 pub fn results_csv(log: &Log) -> String {
     let mut out = String::from(
-        "policy,objects,bin_distance,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,cleared,robot_seconds,picks_per_hour\n",
+        "policy,objects,bin_distance,friction,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,landings,cleared,robot_seconds,picks_per_hour\n",
     );
     for g in summarise(log) {
         let paper = paper_reference(&g);
         let _ = writeln!(
             out,
-            "{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{},{:.4},{:.4}",
+            "{},{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{:.4},{},{:.4},{:.4}",
             g.policy,
             g.objects,
             g.bin_distance,
+            g.friction.map_or(String::new(), |f| f.to_string()),
             g.runs,
             g.opt.0,
             g.opt.1,
@@ -270,6 +320,7 @@ pub fn results_csv(log: &Log) -> String {
             g.pushes,
             g.push_distance,
             g.failed_grasps,
+            g.landings,
             g.cleared,
             g.robot_seconds,
             g.picks_per_hour
@@ -281,15 +332,16 @@ pub fn results_csv(log: &Log) -> String {
 /// The wall-clock figures as CSV.
 pub fn timing_csv(log: &Log) -> String {
     let mut out = String::from(
-        "policy,objects,bin_distance,planning_median,planning_p95,clustering_median\n",
+        "policy,objects,bin_distance,friction,planning_median,planning_p95,clustering_median\n",
     );
     for g in summarise(log) {
         let _ = writeln!(
             out,
-            "{},{},{},{:.9},{:.9},{:.9}",
+            "{},{},{},{},{:.9},{:.9},{:.9}",
             g.policy,
             g.objects,
             g.bin_distance,
+            g.friction.map_or(String::new(), |f| f.to_string()),
             g.planning_median,
             g.planning_p95,
             g.clustering_median
@@ -307,16 +359,20 @@ fn tex(text: &str) -> String {
 /// The results as a LaTeX table body (booktabs), to `\input` in a `table` environment.
 pub fn results_latex(log: &Log) -> String {
     let groups = summarise(log);
-    let (by_objects, by_bin) = varies(&groups);
+    let by = varies(&groups);
     let mut columns = String::from("l");
     let mut head = String::from("Policy");
-    if by_objects {
+    if by.objects {
         columns.push('r');
         head.push_str(" & Objects");
     }
-    if by_bin {
+    if by.bin {
         columns.push('r');
         head.push_str(" & Bin (m)");
+    }
+    if by.friction {
+        columns.push('r');
+        head.push_str(" & $\\mu$");
     }
     columns.push_str("cccrrr");
     head.push_str(" & OpT & Paper (UR5) & Trips & Pushes & Time (s) & Picks/h");
@@ -326,8 +382,8 @@ pub fn results_latex(log: &Log) -> String {
     );
     for g in &groups {
         let mut line = tex(&g.policy);
-        for cell in key_cells(g, by_objects, by_bin) {
-            let _ = write!(line, " & {cell}");
+        for cell in key_cells(g, by) {
+            let _ = write!(line, " & {}", cell.replace('–', "--"));
         }
         let paper =
             paper_reference(g).map_or("--".to_string(), |(m, s)| format!("${m:.3} \\pm {s:.3}$"));

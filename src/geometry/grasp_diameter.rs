@@ -9,7 +9,7 @@
 //! jaw plate's normal is `±u`, so a grasp is robust for any μ ≥ 0 when the line joining the contacts is
 //! parallel to `u`: for an edge contact, the perpendicular from the opposite contact lands on the edge.
 //!
-//! The candidate set used by the public multi-object-grasping code (see `shared/reference/FACTS.md`)
+//! The candidate set used by the public multi-object-grasping code (see `formulations/references.md`)
 //! keeps exactly such configurations: (a) parallel edges at their distance; (b) a vertex whose
 //! perpendicular foot lands on the opposite edge, with both edges at the vertex within 90° of that
 //! perpendicular; (c) two vertices whose joining segment is within 90° of the edges at both. The

@@ -26,7 +26,7 @@
 //!    `μ_jaw N ≥ W/2`; the interface after the first `k` objects carries `|W/2 − W_k|` and needs at most
 //!    `μ_obj N |n·a|`. Masses come from the objects, or from `density × area × height`.
 //!
-//! The row's predicted width is its extent along `a` after closing. `shared/reference/FACTS.md` lists
+//! The row's predicted width is its extent along `a` after closing. `formulations/references.md` lists
 //! the sources of these conditions (Nguyen 1988; the necessary conditions of the public MOG code).
 
 use nalgebra::{Point2, Vector2};
@@ -48,7 +48,7 @@ const GRAVITY: f64 = 9.81;
 #[serde(default, deny_unknown_fields)]
 pub struct GraspModel {
     /// Coulomb friction between a plate and an object. Default 0.4 (the plates' value in the public
-    /// multi-object grasping simulation, `FACTS.md`).
+    /// multi-object grasping simulation, `formulations/references.md`).
     pub friction_jaw: f64,
     /// Coulomb friction between two objects. Default 0.4: the paper wraps the objects' faces in
     /// frictional tape, so object–object contacts are taken as grippy as plate contacts.

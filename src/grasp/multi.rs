@@ -1,6 +1,6 @@
 //! Multi-object grasps: an analytic stand-in for MOG-Net.
 //!
-//! Candidates (after the public multi-object grasping code, `FACTS.md`): jaw centres on a
+//! Candidates (after the public multi-object grasping code, `formulations/references.md`): jaw centres on a
 //! `grid[0] × grid[1]` grid over the bounding box of the target objects, kept inside the convex hull of
 //! their outlines, plus every target's centroid and the midpoint of every pair of target centroids;
 //! closing axes at `angles` even steps over `[0, π)`, plus the direction between every pair of target

@@ -36,6 +36,43 @@ pub struct Trip {
     pub grasp: Grasp,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
+    /// Set when an action was stopped because the gripper came down on an object; the rest of the
+    /// trip was not carried out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fault: Option<Fault>,
+}
+
+/// The gripper came down on top of an object while descending, which stopped the trip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "during", rename_all = "snake_case")]
+pub enum Fault {
+    /// During the descent of a fork push; later pushes and the grasp were not made.
+    Push {
+        /// The push, counted from 0 within the trip.
+        push: usize,
+        /// The object landed on.
+        object: ObjectId,
+    },
+    /// During the grasp's descent; nothing was carried.
+    Grasp {
+        /// The object landed on.
+        object: ObjectId,
+    },
+}
+
+impl std::fmt::Display for Fault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Push { push, object } => write!(
+                f,
+                "push {} stopped: a finger came down on object {object}",
+                push + 1
+            ),
+            Self::Grasp { object } => {
+                write!(f, "grasp stopped: a plate came down on object {object}")
+            }
+        }
+    }
 }
 
 /// How a run ended.
@@ -116,5 +153,10 @@ impl Plan {
     /// Trips that carried nothing.
     pub fn failed_grasps(&self) -> usize {
         self.trips.iter().filter(|t| t.carried.is_empty()).count()
+    }
+
+    /// Trips stopped because the gripper came down on an object.
+    pub fn landings(&self) -> usize {
+        self.trips.iter().filter(|t| t.fault.is_some()).count()
     }
 }

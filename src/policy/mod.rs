@@ -34,14 +34,14 @@ use crate::grasp::{
     Grasp, GraspPlanner, JawPose, MultiObject, MultiObjectSettings, SingleObject,
     SingleObjectSettings,
 };
-use crate::plan::{Plan, RunStatus, Status, Trip};
+use crate::plan::{Fault, Plan, RunStatus, Status, Trip};
 use crate::push::{
     Push, PushPlan, PushPlanner, SkipReason, SkippedPush, Socp, SocpSettings, TowardCentral,
     TowardCentralSettings, predict,
 };
 use crate::random::SeededRng;
-use crate::scene::{ObjectId, Scene};
-use crate::time_model::TimeModel;
+use crate::scene::{Gripper, ObjectId, Scene};
+use crate::time_model::{GraspPath, PushPath, TimeModel};
 
 /// Which policy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -388,10 +388,25 @@ impl Policy {
                     continue;
                 }
             };
-            for push in &draft.pushes {
-                executor.push(push)?;
+            let mut fault = None;
+            for (k, push) in draft.pushes.iter().enumerate() {
+                if let Some(landing) = executor.push(push)? {
+                    fault = Some(Fault::Push {
+                        push: k,
+                        object: landing.object,
+                    });
+                    break;
+                }
             }
-            let carried = executor.grasp(&draft.grasp)?;
+            let carried = if fault.is_none() {
+                let result = executor.grasp(&draft.grasp)?;
+                fault = result.landing.map(|landing| Fault::Grasp {
+                    object: landing.object,
+                });
+                result.carried
+            } else {
+                Vec::new()
+            };
             in_a_row = if carried.is_empty() { in_a_row + 1 } else { 0 };
             trips.push(Trip {
                 scene: observed.to_spec(),
@@ -401,20 +416,15 @@ impl Policy {
                 skipped_pushes: draft.skipped,
                 grasp: draft.grasp,
                 carried,
+                fault,
             });
         };
-        let gripper = scene.gripper();
-        let model = &self.settings.time_model;
-        let seconds = trips
-            .iter()
-            .map(|t| {
-                model.trip_seconds(gripper)
-                    + t.pushes
-                        .iter()
-                        .map(|p| model.push_seconds(gripper, p.distance))
-                        .sum::<f64>()
-            })
-            .sum();
+        let seconds = run_seconds(
+            &self.settings.time_model,
+            scene.gripper(),
+            &trips,
+            failed_attempts.len(),
+        );
         Ok((
             Plan {
                 seconds,
@@ -555,6 +565,32 @@ impl Policy {
             _ => whole.value,
         })
     }
+}
+
+/// Robot time of a run by the time model: every trip as planned (a trip stopped by a landing is
+/// charged in full, a stand-in for recovering from it) and an observation before every trip and
+/// every planning attempt that found nothing, seconds.
+pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed: usize) -> f64 {
+    let trips_seconds: f64 = trips
+        .iter()
+        .map(|trip| {
+            let pushes: Vec<PushPath> = trip
+                .pushes
+                .iter()
+                .map(|p| PushPath {
+                    approach: p.fork.approach,
+                    end: p.fork.end,
+                })
+                .collect();
+            let grasp = GraspPath {
+                center: trip.grasp.jaws.center,
+                opening: trip.grasp.jaws.opening,
+                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
+            };
+            model.trip_seconds(gripper, &pushes, &grasp)
+        })
+        .sum();
+    trips_seconds + model.observation * (trips.len() + failed) as f64
 }
 
 fn failure_reason(status: &Status) -> String {

@@ -6,8 +6,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 
 /// A parallel-jaw gripper. Defaults are a Robotiq 2F-85: stroke 85 mm between plate centres, plates
-/// 10 mm thick and 20 mm long, so the usable gap between the plate faces is 75 mm; fork pushes open the
-/// jaws to 30 % of the stroke (the Push-MOG paper's setting).
+/// 10 mm thick and 22 mm long (the fingertip pad's width), so the usable gap between the plate faces
+/// is 75 mm; fork pushes open the jaws to 30 % of the stroke (the Push-MOG paper's setting).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Gripper {
@@ -15,7 +15,9 @@ pub struct Gripper {
     pub stroke: f64,
     /// Thickness of each jaw plate along the closing axis, metres. Default 0.010.
     pub plate_thickness: f64,
-    /// Length of each jaw plate across the closing axis, metres. Default 0.020.
+    /// Length of each jaw plate across the closing axis, metres. Default 0.022: the width of the
+    /// 2F-85 fingertip pad in public MuJoCo models built from the manufacturer's CAD
+    /// (`formulations/references.md`).
     pub plate_length: f64,
     /// Opening for fork pushes as a fraction of the stroke (between plate centres). Default 0.30.
     pub fork_push_opening_fraction: f64,
@@ -26,7 +28,7 @@ impl Default for Gripper {
         Self {
             stroke: 0.085,
             plate_thickness: 0.010,
-            plate_length: 0.020,
+            plate_length: 0.022,
             fork_push_opening_fraction: 0.30,
         }
     }

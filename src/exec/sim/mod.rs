@@ -27,7 +27,7 @@ mod world;
 use rapier3d_f64::math::{Rotation, Vector};
 
 use self::world::{Prism, Stage, StageSettings};
-use super::Executor;
+use super::{Executor, GraspResult, Landing};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;
 use crate::grasp::Grasp;
@@ -35,7 +35,18 @@ use crate::push::Push;
 use crate::random::SeededRng;
 use crate::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
 
-pub use settings::SimSettings;
+pub use settings::{FingerDrive, SimSettings};
+
+/// What [`Sim::close_and_release`] saw once the jaws had closed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Closing {
+    /// Set when the descent came down on an object (nothing was closed then).
+    pub landing: Option<Landing>,
+    /// Distance between the plate centres once closed, metres.
+    pub opening: f64,
+    /// Every object within reach of the jaws and its pose seen from above once closed.
+    pub poses: Vec<(ObjectId, Pose)>,
+}
 
 /// Executes plans in the physics simulator.
 #[derive(Clone, Debug)]
@@ -81,6 +92,8 @@ impl Sim {
             finger_height: self.settings.finger_height,
             time_step: self.settings.time_step,
             contact_frequency: self.settings.contact_frequency,
+            fingers: self.settings.fingers,
+            linkage_stiffness: self.settings.linkage_stiffness,
         }
     }
 
@@ -113,6 +126,95 @@ impl Sim {
             sp * self.rng.normal(),
             sy * self.rng.normal(),
         )
+    }
+
+    /// The grasp's first half: open jaws lowered over the grasp (with actuation noise) and closed until
+    /// they stop; `Err` when the descent came down on an object (the action is then abandoned).
+    fn lower_and_close(&mut self, grasp: &Grasp) -> std::result::Result<Stage, Landing> {
+        let (ex, ey, eyaw) = self.actuation();
+        let jaws = &grasp.jaws;
+        let centre = (jaws.center.x + ex, jaws.center.y + ey);
+        let members = self.near(centre, centre);
+        let above = self.tallest(&members) + 0.005;
+        let s = &self.settings;
+        let mut stage = Stage::new(
+            &self.prisms,
+            &members,
+            &self.gripper,
+            &self.stage_settings(),
+            centre,
+            above,
+            jaws.angle + eyaw,
+            jaws.opening,
+        );
+        if let Some(index) = stage.descend(above - s.grasp_height, s.vertical_speed) {
+            return Err(self.abandon(stage, above, index));
+        }
+        let timeout = jaws.opening / s.jaw_speed + 0.5;
+        stage.close(s.jaw_speed, s.grip_force, timeout);
+        Ok(stage)
+    }
+
+    /// Lowers the open jaws as for `grasp`, closes them, notes where every object within reach is,
+    /// then opens the jaws again and rises without lifting anything. For studying what a closing does
+    /// (and for tests): the table keeps whatever the closing did to it.
+    ///
+    /// # Errors
+    /// When [`Executor::reset`] was not called.
+    pub fn close_and_release(&mut self, grasp: &Grasp) -> Result<Closing> {
+        if self.workspace.is_none() {
+            return Err(Error::field(
+                "sim executor",
+                "scene",
+                "reset() was not called",
+            ));
+        }
+        let mut stage = match self.lower_and_close(grasp) {
+            Ok(stage) => stage,
+            Err(landing) => {
+                return Ok(Closing {
+                    landing: Some(landing),
+                    opening: grasp.jaws.opening,
+                    poses: Vec::new(),
+                });
+            }
+        };
+        stage.wait(0.05);
+        let opening = stage.opening();
+        let poses = stage
+            .poses()
+            .into_iter()
+            .map(|(index, pose)| (self.prisms[index].id, pose))
+            .collect();
+        stage.open(grasp.jaws.opening, self.settings.jaw_speed);
+        let height = stage.tip_height();
+        let above = self.tallest(&(0..self.prisms.len()).collect::<Vec<_>>()) + 0.005;
+        stage.travel(
+            Vector::new(0.0, 0.0, above - height),
+            self.settings.vertical_speed,
+        );
+        stage.wait(0.05);
+        stage.write_back(&mut self.prisms);
+        Ok(Closing {
+            landing: None,
+            opening,
+            poses,
+        })
+    }
+
+    /// Ends an action whose descent stopped on prism `index`: the gripper rises back to `above` and
+    /// the objects stay as physics left them.
+    fn abandon(&mut self, mut stage: Stage, above: f64, index: usize) -> Landing {
+        let height = stage.tip_height();
+        stage.travel(
+            Vector::new(0.0, 0.0, above - height),
+            self.settings.vertical_speed,
+        );
+        stage.wait(0.05);
+        stage.write_back(&mut self.prisms);
+        Landing {
+            object: self.prisms[index].id,
+        }
     }
 
     fn tallest(&self, members: &[usize]) -> f64 {
@@ -154,9 +256,9 @@ impl Executor for Sim {
         Ok(())
     }
 
-    fn push(&mut self, push: &Push) -> Result<()> {
+    fn push(&mut self, push: &Push) -> Result<Option<Landing>> {
         let Some(target) = self.prisms.iter().position(|p| p.id == push.object) else {
-            return Ok(());
+            return Ok(None);
         };
         let (ex, ey, eyaw) = self.actuation();
         let fork = &push.fork;
@@ -176,7 +278,9 @@ impl Executor for Sim {
             fork.opening,
         );
         let speed = self.settings.vertical_speed;
-        stage.travel(Vector::new(0.0, 0.0, tip - above), speed);
+        if let Some(index) = stage.descend(above - tip, speed) {
+            return Ok(Some(self.abandon(stage, above, index)));
+        }
         stage.travel(
             Vector::new(end.0 - start.0, end.1 - start.1, 0.0),
             self.settings.push_speed,
@@ -184,32 +288,20 @@ impl Executor for Sim {
         stage.travel(Vector::new(0.0, 0.0, above - tip), speed);
         stage.wait(0.05);
         stage.write_back(&mut self.prisms);
-        Ok(())
+        Ok(None)
     }
 
-    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
-        let (ex, ey, eyaw) = self.actuation();
-        let jaws = &grasp.jaws;
-        let centre = (jaws.center.x + ex, jaws.center.y + ey);
-        let members = self.near(centre, centre);
-        let above = self.tallest(&members) + 0.005;
+    fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
         let s = self.settings.clone();
-        let mut stage = Stage::new(
-            &self.prisms,
-            &members,
-            &self.gripper,
-            &self.stage_settings(),
-            centre,
-            above,
-            jaws.angle + eyaw,
-            jaws.opening,
-        );
-        stage.travel(
-            Vector::new(0.0, 0.0, s.grasp_height - above),
-            s.vertical_speed,
-        );
-        let timeout = jaws.opening / s.jaw_speed + 0.5;
-        stage.close(s.jaw_speed, s.grip_force, timeout);
+        let mut stage = match self.lower_and_close(grasp) {
+            Ok(stage) => stage,
+            Err(landing) => {
+                return Ok(GraspResult {
+                    carried: Vec::new(),
+                    landing: Some(landing),
+                });
+            }
+        };
         stage.wait(0.05);
         stage.travel(Vector::new(0.0, 0.0, s.lift), s.vertical_speed);
         stage.wait(s.settle);
@@ -233,7 +325,7 @@ impl Executor for Sim {
             }
         });
         // Anything else that left the stage upward and fell is back on the table by now.
-        Ok(carried)
+        Ok(GraspResult::carried(carried))
     }
 
     fn observe(&mut self) -> Result<Scene> {

@@ -4,15 +4,32 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 
+/// How the two fingers are driven.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum FingerDrive {
+    /// One motor closes both fingers symmetrically about the gripper's centre (the 2F-85's linkage);
+    /// the motor stops when the mean squeeze reaches the grip force and holds it.
+    #[default]
+    Coupled,
+    /// Each finger has its own motor, each limited to the grip force.
+    Independent,
+}
+
 /// Physical parameters, motions and noise of the simulated robot and table.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimSettings {
-    /// Coulomb friction between a finger pad and an object. Default 0.4: the plates' value in the public
-    /// multi-object grasping simulation (`shared/reference/FACTS.md`).
+    /// Coulomb friction between a finger pad and an object. Default 0.4, the low end of what is known:
+    /// 0.4 is the plates' value in the public multi-object grasping simulation, public MuJoCo models of
+    /// the 2F-85 give its silicone pads 0.6–0.7, and frictional tape on silicone may reach 0.8 (sources
+    /// in `formulations/references.md`). Nobody has measured it for the paper's objects, so the
+    /// experiment `friction.toml` sweeps 0.4–0.8 and the write-up says which conclusions survive.
     pub friction_finger: f64,
     /// Coulomb friction between two objects. Default 0.4: the Push-MOG objects carry frictional tape on
-    /// their faces, taken as grippy as the plates (the grasp model's value too).
+    /// their faces, taken as grippy as the pads (the grasp model's value too); swept with the pads.
     pub friction_object: f64,
     /// Coulomb friction between an object and the table. Default 0.3: plastic or wood on a laminate
     /// table (handbook values 0.2–0.4). The public MOG simulation's 0.05 was chosen to make planar
@@ -22,8 +39,19 @@ pub struct SimSettings {
     pub density: f64,
     /// Mass of each finger, kilograms. Default 0.05 (a 2F-85 fingertip and pad are tens of grams).
     pub finger_mass: f64,
-    /// Height of each finger pad, metres. Default 0.04 (taller than the 30 mm objects).
+    /// Height of each finger pad, metres. Default 0.0375: the 2F-85 fingertip pad is two stacked
+    /// 22 × 18.75 mm boxes in public MuJoCo models built from the manufacturer's CAD (the pad's width,
+    /// 22 mm, is the gripper's `plate_length`; `formulations/references.md`).
     pub finger_height: f64,
+    /// How the fingers are driven. Default `coupled`: the 2F-85 moves both fingers from one motor
+    /// through a linkage, so they close symmetrically about the gripper's centre and a finger that
+    /// touches first pushes the object toward the centre. `independent` gives each finger its own
+    /// force-limited motor (the simulator before this setting existed), kept for comparison.
+    pub fingers: FingerDrive,
+    /// Stiffness between the motor and each pad in the coupled drive, N/m. Default 20 000: a pad yields
+    /// 1 mm under the 20 N grip (silicone pad and linkage play; an estimate, not a measurement). It
+    /// sets how far one finger can lag the other, not the grip force.
+    pub linkage_stiffness: f64,
     /// Squeezing force limit of the jaws, newtons. Default 20 (the 2F-85's lowest force setting).
     pub grip_force: f64,
     /// Closing speed of the jaws, m/s. Default 0.05 (within the 2F-85's 0.02–0.15 m/s).
@@ -72,7 +100,9 @@ impl Default for SimSettings {
             friction_table: 0.3,
             density: 1000.0,
             finger_mass: 0.05,
-            finger_height: 0.04,
+            finger_height: 0.0375,
+            fingers: FingerDrive::Coupled,
+            linkage_stiffness: 20_000.0,
             grip_force: 20.0,
             jaw_speed: 0.05,
             push_speed: 0.05,
@@ -114,6 +144,7 @@ impl SimSettings {
             ("density", self.density),
             ("finger_mass", self.finger_mass),
             ("finger_height", self.finger_height),
+            ("linkage_stiffness", self.linkage_stiffness),
             ("grip_force", self.grip_force),
             ("jaw_speed", self.jaw_speed),
             ("push_speed", self.push_speed),

@@ -6,12 +6,33 @@
 //! and at `z = height`. The palm is a kinematic body at the fingers' mid-height; its local `x` is the
 //! closing axis. Each finger is a dynamic box (plate thickness along `x`, plate length along `y`,
 //! finger height along `z`) on a prismatic joint along the palm's `x`.
+//!
+//! **Finger drive.** With the coupled drive (the 2F-85's single motor and linkage) one opening `q`
+//! drives both fingers: each joint's servo holds its finger at `∓q/2` with the linkage's stiffness
+//! `k`, so a finger pressed outward by `d` pushes back with `k·d`. While closing, `q` shrinks at the
+//! jaw speed until the mean of the two fingers' forces reaches the grip force; each step it shrinks
+//! by at most `(F_grip − F)/k`, so the force approaches the limit without overshoot. Then `q` holds;
+//! if an object slips and the force drops, closing resumes, as a force-limited motor does. With
+//! independent fingers each finger has its own velocity motor limited to the grip force.
+//!
+//! **Landing.** While the gripper descends, a finger whose contact with an object has a normal within
+//! 60° of vertical has come down on top of it: the descent stops there (a real arm would be stopped or
+//! would crush the object), and the caller reports the action as failed.
 
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::*;
 
+use super::settings::FingerDrive;
 use crate::geometry::ConvexPolygon;
 use crate::scene::{Gripper, ObjectId, Pose as PlanarPose};
+
+/// A contact normal with a vertical component above this (cos 60°) means a finger is on top of an
+/// object, not beside it.
+const LANDING_NORMAL: f64 = 0.5;
+
+/// A contact point closer than this counts as touching, metres (rapier also reports points a little
+/// apart, within its prediction distance).
+const TOUCHING: f64 = 2e-4;
 
 /// Collider materials, stored in the colliders' user data.
 const TABLE: u128 = 0;
@@ -102,12 +123,31 @@ pub(super) struct Stage {
     world: PhysicsWorld,
     hooks: Materials,
     members: Vec<(usize, RigidBodyHandle)>,
+    /// Each object's collider and its index in the prisms.
+    object_colliders: Vec<(ColliderHandle, usize)>,
     palm: RigidBodyHandle,
     joints: [ImpulseJointHandle; 2],
     fingers: [RigidBodyHandle; 2],
+    finger_colliders: [ColliderHandle; 2],
     palm_translation: Vector,
     palm_rotation: Rotation,
     time_step: f64,
+    /// Half the finger's height: the palm sits this far above the fingertips, metres.
+    half_finger: f64,
+    drive: Drive,
+}
+
+/// The coupled drive's state: the commanded opening and, while closing, its speed and force limit.
+struct Drive {
+    kind: FingerDrive,
+    stiffness: f64,
+    damping: f64,
+    /// Commanded distance between plate centres, metres.
+    opening: f64,
+    /// Smallest opening (plates touching), metres.
+    shut: f64,
+    /// While closing: speed (m/s) and force limit (N).
+    closing: Option<(f64, f64)>,
 }
 
 /// Motion parameters of a stage.
@@ -119,6 +159,8 @@ pub(super) struct StageSettings {
     pub finger_height: f64,
     pub time_step: f64,
     pub contact_frequency: f64,
+    pub fingers: FingerDrive,
+    pub linkage_stiffness: f64,
 }
 
 impl Stage {
@@ -156,6 +198,7 @@ impl Stage {
             &mut world.bodies,
         );
         let mut handles = Vec::with_capacity(members.len());
+        let mut object_colliders = Vec::with_capacity(members.len());
         for &index in members {
             let prism = &prisms[index];
             let body = world.bodies.insert(
@@ -165,7 +208,7 @@ impl Stage {
             );
             let volume = prism.polygon.area() * prism.height;
             if let Some(collider) = ColliderBuilder::convex_hull(&prism.points()) {
-                world.colliders.insert_with_parent(
+                let handle = world.colliders.insert_with_parent(
                     collider
                         .density(prism.mass / volume)
                         .user_data(OBJECT)
@@ -173,6 +216,7 @@ impl Stage {
                     body,
                     &mut world.bodies,
                 );
+                object_colliders.push((handle, index));
             }
             handles.push((index, body));
         }
@@ -189,7 +233,11 @@ impl Stage {
             settings.finger_height / 2.0,
         ];
         let volume = 8.0 * half[0] * half[1] * half[2];
+        let stiffness = settings.linkage_stiffness;
+        // Critically damped servo of one finger on the linkage.
+        let damping = 2.0 * (stiffness * settings.finger_mass).sqrt();
         let mut fingers = Vec::with_capacity(2);
+        let mut finger_colliders = Vec::with_capacity(2);
         let mut joints = Vec::with_capacity(2);
         for side in [-1.0, 1.0] {
             let offset = palm_rotation * Vector::new(side * opening / 2.0, 0.0, 0.0);
@@ -198,13 +246,15 @@ impl Stage {
                     .pose(Pose::from_parts(palm_translation + offset, palm_rotation))
                     .can_sleep(false),
             );
-            world.colliders.insert_with_parent(
-                ColliderBuilder::cuboid(half[0], half[1], half[2])
-                    .density(settings.finger_mass / volume)
-                    .user_data(FINGER)
-                    .active_hooks(hooks),
-                finger,
-                &mut world.bodies,
+            finger_colliders.push(
+                world.colliders.insert_with_parent(
+                    ColliderBuilder::cuboid(half[0], half[1], half[2])
+                        .density(settings.finger_mass / volume)
+                        .user_data(FINGER)
+                        .active_hooks(hooks),
+                    finger,
+                    &mut world.bodies,
+                ),
             );
             let limits = if side < 0.0 {
                 [-gripper.stroke / 2.0, -gripper.plate_thickness / 2.0]
@@ -216,9 +266,18 @@ impl Stage {
                 .local_anchor2(Vector::ZERO)
                 .limits(limits)
                 .motor_model(MotorModel::ForceBased)
-                .motor_position(side * opening / 2.0, 2000.0, 100.0)
-                .motor_max_force(200.0)
                 .contacts_enabled(false);
+            // Both drives hold the fingers at the opening until told to close; the coupled servo is
+            // the linkage itself, as strong as the arm needs (200 N, ten times the grip).
+            let joint = match settings.fingers {
+                FingerDrive::Coupled => {
+                    joint.motor_position(side * opening / 2.0, stiffness, damping)
+                }
+                FingerDrive::Independent => {
+                    joint.motor_position(side * opening / 2.0, 2000.0, 100.0)
+                }
+            }
+            .motor_max_force(200.0);
             joints.push(world.impulse_joints.insert(palm_body, finger, joint, true));
             fingers.push(finger);
         }
@@ -230,17 +289,116 @@ impl Stage {
                 table: settings.friction_table,
             },
             members: handles,
+            object_colliders,
             palm: palm_body,
             joints: [joints[0], joints[1]],
             fingers: [fingers[0], fingers[1]],
+            finger_colliders: [finger_colliders[0], finger_colliders[1]],
             palm_translation,
             palm_rotation,
             time_step: settings.time_step,
+            half_finger: settings.finger_height / 2.0,
+            drive: Drive {
+                kind: settings.fingers,
+                stiffness,
+                damping,
+                opening,
+                shut: gripper.plate_thickness,
+                closing: None,
+            },
         }
     }
 
     fn step(&mut self) {
+        self.drive_fingers();
         self.world.step_with_events(&self.hooks, &());
+    }
+
+    /// The coupled drive's update before a step: shrink the commanded opening toward the force limit
+    /// and move both servo targets with it.
+    fn drive_fingers(&mut self) {
+        if self.drive.kind != FingerDrive::Coupled {
+            return;
+        }
+        let Some((speed, force)) = self.drive.closing else {
+            return;
+        };
+        let squeeze = self.squeeze();
+        let step = if squeeze < force {
+            (speed * self.time_step)
+                .min((force - squeeze) / self.drive.stiffness)
+                .min(self.drive.opening - self.drive.shut)
+                .max(0.0)
+        } else {
+            0.0
+        };
+        self.drive.opening -= step;
+        let velocity = step / self.time_step / 2.0;
+        let (opening, stiffness, damping) =
+            (self.drive.opening, self.drive.stiffness, self.drive.damping);
+        for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
+            if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
+                joint.data.set_motor(
+                    JointAxis::LinX,
+                    side * opening / 2.0,
+                    -side * velocity,
+                    stiffness,
+                    damping,
+                );
+            }
+        }
+    }
+
+    /// Each finger's position along the closing axis, relative to the palm, metres.
+    fn finger_offsets(&self) -> [f64; 2] {
+        let palm = self
+            .world
+            .bodies
+            .get(self.palm)
+            .map_or(self.palm_translation, |b| b.translation());
+        let axis = self.palm_rotation * Vector::X;
+        self.fingers.map(|h| {
+            self.world
+                .bodies
+                .get(h)
+                .map_or(0.0, |b| (b.translation() - palm).dot(axis))
+        })
+    }
+
+    /// The coupled drive's squeeze: the mean force with which the linkage holds the fingers against
+    /// whatever pushes them outward, newtons (0 for independent fingers).
+    pub fn squeeze(&self) -> f64 {
+        if self.drive.kind != FingerDrive::Coupled {
+            return 0.0;
+        }
+        let [left, right] = self.finger_offsets();
+        let half = self.drive.opening / 2.0;
+        self.drive.stiffness * ((-half - left) + (right - half)) / 2.0
+    }
+
+    /// The member (index into the prisms) a finger rests on top of, if any.
+    fn landed_on(&self) -> Option<usize> {
+        for finger in self.finger_colliders {
+            for pair in self.world.contact_pairs_with(finger) {
+                let other = if pair.collider1 == finger {
+                    pair.collider2
+                } else {
+                    pair.collider1
+                };
+                let Some(&(_, index)) = self.object_colliders.iter().find(|(h, _)| *h == other)
+                else {
+                    continue;
+                };
+                let on_top = pair.manifolds().iter().any(|m| {
+                    m.data.normal.z.abs() > LANDING_NORMAL
+                        && m.points.iter().any(|p| p.dist < TOUCHING)
+                });
+                if on_top {
+                    return Some(index);
+                }
+            }
+        }
+        None
     }
 
     /// Lets the world run with the palm still, seconds.
@@ -273,15 +431,43 @@ impl Stage {
         }
     }
 
+    /// Height of the fingertips above the table, metres.
+    pub fn tip_height(&self) -> f64 {
+        self.palm_translation.z - self.half_finger
+    }
+
+    /// Lowers the palm by `depth` at `speed`, stopping at once if a finger comes down on top of an
+    /// object; returns that object's index in the prisms.
+    pub fn descend(&mut self, depth: f64, speed: f64) -> Option<usize> {
+        if depth <= 0.0 {
+            return None;
+        }
+        let steps = (depth / (speed * self.time_step)).ceil().max(1.0) as usize;
+        let start = self.palm_translation;
+        for k in 1..=steps {
+            self.move_palm_to(start - Vector::Z * (depth * k as f64 / steps as f64));
+            self.step();
+            if let Some(index) = self.landed_on() {
+                return Some(index);
+            }
+        }
+        None
+    }
+
     /// Closes the jaws at `speed` with at most `force` per finger, until they stop moving (or are shut);
     /// returns the final opening between plate centres.
     pub fn close(&mut self, speed: f64, force: f64, timeout: f64) -> f64 {
-        for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
-            if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
-                joint
-                    .data
-                    .set_motor_velocity(JointAxis::LinX, -side * speed, 1000.0);
-                joint.data.set_motor_max_force(JointAxis::LinX, force);
+        match self.drive.kind {
+            FingerDrive::Coupled => self.drive.closing = Some((speed, force)),
+            FingerDrive::Independent => {
+                for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
+                    if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
+                        joint
+                            .data
+                            .set_motor_velocity(JointAxis::LinX, -side * speed, 1000.0);
+                        joint.data.set_motor_max_force(JointAxis::LinX, force);
+                    }
+                }
             }
         }
         let steps = (timeout / self.time_step).ceil() as usize;
@@ -314,6 +500,51 @@ impl Stage {
                 .map_or(Vector::ZERO, |b| b.translation())
         };
         (position(self.fingers[1]) - position(self.fingers[0])).length()
+    }
+
+    /// Opens the jaws to `opening` between plate centres at `speed`, then waits until they get there.
+    pub fn open(&mut self, opening: f64, speed: f64) {
+        self.drive.closing = None;
+        let from = self.opening();
+        self.drive.opening = opening;
+        let (stiffness, damping) = (self.drive.stiffness, self.drive.damping);
+        for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
+            if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
+                match self.drive.kind {
+                    FingerDrive::Coupled => {
+                        joint.data.set_motor_position(
+                            JointAxis::LinX,
+                            side * opening / 2.0,
+                            stiffness,
+                            damping,
+                        );
+                    }
+                    FingerDrive::Independent => {
+                        joint.data.set_motor_position(
+                            JointAxis::LinX,
+                            side * opening / 2.0,
+                            2000.0,
+                            100.0,
+                        );
+                        joint.data.set_motor_max_force(JointAxis::LinX, 200.0);
+                    }
+                }
+            }
+        }
+        self.wait((opening - from).abs() / speed + 0.05);
+    }
+
+    /// Each member's index in the prisms and its planar pose now.
+    pub fn poses(&self) -> Vec<(usize, PlanarPose)> {
+        self.members
+            .iter()
+            .filter_map(|&(index, handle)| {
+                let body = self.world.bodies.get(handle)?;
+                let x_axis = *body.rotation() * Vector::X;
+                let t = body.translation();
+                Some((index, PlanarPose::new(t.x, t.y, x_axis.y.atan2(x_axis.x))))
+            })
+            .collect()
     }
 
     /// Writes the simulated poses back into `prisms`.

@@ -42,7 +42,7 @@ pub use tool_path::tool_path_svg;
 pub use urscript::{gripper_command, gripper_line, listing, motion_program, program, step_list};
 
 use crate::error::{Error, Result};
-use crate::exec::Executor;
+use crate::exec::{Executor, GraspResult, Landing};
 use crate::grasp::Grasp;
 use crate::plan::Plan;
 use crate::push::Push;
@@ -333,7 +333,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
         Ok(())
     }
 
-    fn push(&mut self, push: &Push) -> Result<()> {
+    fn push(&mut self, push: &Push) -> Result<Option<Landing>> {
         let done = self.current_trip()?.pushes.len();
         let name = format!("trip {}, push {}", self.record.len(), done + 1);
         let steps = self
@@ -342,10 +342,10 @@ impl<L: RobotLink> Executor for Ur5<L> {
             .fork_push(self.scene()?, push, &name);
         self.runner.run(steps)?;
         self.current_trip()?.pushes.push(push.clone());
-        Ok(())
+        Ok(None)
     }
 
-    fn grasp(&mut self, grasp: &Grasp) -> Result<Vec<ObjectId>> {
+    fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
         self.current_trip()?;
         let name = format!("trip {}, grasp", self.record.len());
         let steps = self
@@ -364,7 +364,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
             trip.carried.clone_from(&carried);
         }
         self.scene = Some(after);
-        Ok(carried)
+        Ok(GraspResult::carried(carried))
     }
 
     fn observe(&mut self) -> Result<Scene> {

@@ -1,0 +1,152 @@
+//! The time model against the real cell's logs in `experiments/data/`: its parameters are derived
+//! from them again here, and its trips and picks per hour reproduce theirs.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use pushmog::scene::Gripper;
+use pushmog::time_model::TimeModel;
+
+/// One timed attempt of the real cell.
+struct Attempt {
+    scene: u32,
+    multi: bool,
+    index: u32,
+    execution: Option<f64>,
+    planning: f64,
+}
+
+/// One scene of the real cell, for one kind of grasp.
+struct SceneRecord {
+    scene: u32,
+    multi: bool,
+    objects: u32,
+    left: u32,
+}
+
+fn data(name: &str) -> Vec<Vec<String>> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("experiments/data")
+        .join(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|line| line.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+fn attempts() -> Vec<Attempt> {
+    data("real-cell-attempts.csv")
+        .into_iter()
+        .map(|row| Attempt {
+            scene: row[0].parse().unwrap(),
+            multi: row[1] == "multi",
+            index: row[2].parse().unwrap(),
+            execution: (!row[3].is_empty()).then(|| row[3].parse().unwrap()),
+            planning: row[4].parse().unwrap(),
+        })
+        .collect()
+}
+
+fn scenes() -> Vec<SceneRecord> {
+    data("real-cell-scenes.csv")
+        .into_iter()
+        .map(|row| SceneRecord {
+            scene: row[0].parse().unwrap(),
+            multi: row[1] == "multi",
+            objects: row[2].parse().unwrap(),
+            left: row[3].parse().unwrap(),
+        })
+        .collect()
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        (values[n / 2 - 1] + values[n / 2]) / 2.0
+    }
+}
+
+/// Picks per hour as the logs' authors computed them: per scene, the objects picked over the summed
+/// execution and planning time of the attempts logged without a gap from the first; the mean over
+/// scenes. `per_attempt` replaces the logged times of an attempt with the model's, when given.
+fn picks_per_hour(multi: bool, per_attempt: Option<f64>) -> f64 {
+    let attempts = attempts();
+    let mut by_scene: BTreeMap<u32, Vec<&Attempt>> = BTreeMap::new();
+    for attempt in attempts.iter().filter(|a| a.multi == multi) {
+        by_scene.entry(attempt.scene).or_default().push(attempt);
+    }
+    let mut rates = Vec::new();
+    for record in scenes().iter().filter(|s| s.multi == multi) {
+        let mut list = by_scene.remove(&record.scene).unwrap_or_default();
+        list.sort_by_key(|a| a.index);
+        let counted: Vec<&Attempt> = list
+            .iter()
+            .enumerate()
+            .take_while(|(k, a)| a.index as usize == *k && a.execution.is_some())
+            .map(|(_, a)| *a)
+            .collect();
+        if counted.is_empty() {
+            continue;
+        }
+        let seconds: f64 = match per_attempt {
+            Some(each) => each * counted.len() as f64,
+            None => counted
+                .iter()
+                .map(|a| a.execution.unwrap_or(0.0) + a.planning)
+                .sum(),
+        };
+        rates.push(3600.0 * f64::from(record.objects - record.left) / seconds);
+    }
+    rates.iter().sum::<f64>() / rates.len() as f64
+}
+
+#[test]
+fn time_model_fit() {
+    let attempts = attempts();
+    let execution = median(attempts.iter().filter_map(|a| a.execution).collect());
+    let planning = median(attempts.iter().map(|a| a.planning).collect());
+    println!(
+        "real cell: {} timed attempts, median execution {execution:.3} s, median planning {planning:.3} s",
+        attempts.iter().filter(|a| a.execution.is_some()).count()
+    );
+    let model = TimeModel::default();
+    let settle = model.fit_settle(execution).unwrap();
+    println!(
+        "fitted settle {settle:.4} s per command (default {:.4} s)",
+        model.arm_settle
+    );
+    // The defaults are the fit, derived again from the data.
+    assert!((settle - model.arm_settle).abs() < 0.001);
+    assert!((settle - model.gripper_settle).abs() < 0.001);
+    assert!((planning - model.observation).abs() < 0.01);
+    // The model's single-object trip reproduces the real one within 10 %.
+    let trip = model.nominal_trip_seconds(&Gripper::default());
+    println!("model trip {trip:.2} s against {execution:.2} s");
+    assert!((trip - execution).abs() < 0.1 * execution);
+}
+
+#[test]
+fn time_model_reproduces_picks_per_hour() {
+    let model = TimeModel::default();
+    let per_attempt = model.nominal_trip_seconds(&Gripper::default()) + model.observation;
+    for (multi, published) in [(false, 212.0), (true, 340.0)] {
+        let logged = picks_per_hour(multi, None);
+        let modelled = picks_per_hour(multi, Some(per_attempt));
+        println!(
+            "{}: published {published}, from the logs {logged:.1}, with the model's times {modelled:.1} picks per hour",
+            if multi {
+                "multi-object"
+            } else {
+                "single-object"
+            }
+        );
+        // The logs give the published figure back.
+        assert!((logged - published).abs() < 0.01 * published);
+        // The model's times give it within 10 %.
+        assert!((modelled - published).abs() < 0.1 * published);
+    }
+}
