@@ -6,7 +6,7 @@ use pushmog::cluster::{Clusterer, Hierarchical, fits_jaws, separability_conflict
 use pushmog::exec::Ideal;
 use pushmog::geometry::ConvexPolygon;
 use pushmog::grasp::{
-    GraspModel, GraspPlanner, JawPose, MultiObject, SingleObject, Squeeze, squeeze,
+    GraspModel, GraspPlanner, JawPose, Mechanics, MultiObject, SingleObject, Squeeze, squeeze,
 };
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
@@ -114,15 +114,22 @@ fn three_equilateral_triangles_in_a_row_slip() {
         angle: 0.0,
         opening: 0.085,
     };
-    let outcome = squeeze(&s, &jaws, &GraspModel::default());
+    let analytic = GraspModel {
+        mechanics: Mechanics::Analytic,
+        ..GraspModel::default()
+    };
+    let outcome = squeeze(&s, &jaws, &analytic);
     assert!(matches!(outcome, Squeeze::Slips { .. }), "{outcome:?}");
     // Only with far more friction than plates and tape give could the row hold.
     let grippy = GraspModel {
         friction_object: 2.0,
         friction_jaw: 2.0,
-        ..GraspModel::default()
+        ..analytic
     };
     assert!(matches!(squeeze(&s, &jaws, &grippy), Squeeze::Held { .. }));
+    // The planar mechanics refuse the row too: some triangle turns out of it.
+    let planar = squeeze(&s, &jaws, &GraspModel::default());
+    assert!(!matches!(planar, Squeeze::Held { .. }), "{planar:?}");
 }
 
 #[test]
@@ -155,10 +162,23 @@ fn two_squares_side_by_side_are_held_together() {
         angle: 0.0,
         opening: 0.085,
     };
-    match squeeze(&s, &jaws, &GraspModel::default()) {
+    let analytic = GraspModel {
+        mechanics: Mechanics::Analytic,
+        ..GraspModel::default()
+    };
+    match squeeze(&s, &jaws, &analytic) {
         Squeeze::Held { objects, width } => {
             assert_eq!(objects, vec![0, 1]);
             assert!((width - 0.060).abs() < 1e-9, "{width}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The planar mechanics close on the same row, squeezed a fraction of a millimetre.
+    match squeeze(&s, &jaws, &GraspModel::default()) {
+        Squeeze::Held { mut objects, width } => {
+            objects.sort_unstable();
+            assert_eq!(objects, vec![0, 1]);
+            assert!((width - 0.060).abs() < 5e-4, "{width}");
         }
         other => panic!("{other:?}"),
     }

@@ -17,7 +17,7 @@ use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
 pub use ideal::Ideal;
-pub use sim::{Closing, FingerDrive, Sim, SimSettings};
+pub use sim::{Closing, FingerDrive, Rollout, Sim, SimSettings};
 
 /// A finger or plate came down on top of an object while the gripper descended, so the action was
 /// stopped there (a real arm would have been stopped, or would have crushed the object).

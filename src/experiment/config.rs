@@ -374,13 +374,7 @@ impl ExperimentConfig {
         if self.executor.noise {
             settings
         } else {
-            SimSettings {
-                perception_position: 0.0,
-                perception_yaw: 0.0,
-                actuation_position: 0.0,
-                actuation_yaw: 0.0,
-                ..settings
-            }
+            SimSettings::noiseless_from(&settings)
         }
     }
 }

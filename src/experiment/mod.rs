@@ -7,6 +7,7 @@
 //! split into shards for batch schedulers, and merge back (`pushmog merge`). The log format is
 //! described in `experiments/README.md`.
 
+pub mod agreement;
 mod config;
 pub mod figures;
 pub mod log;

@@ -10,15 +10,18 @@
 //! - [`distance`], [`overlap`]: polygon distances through parry2d-f64 (`queries.rs`, the only place in
 //!   the crate that uses parry).
 //! - [`penetration_depth`], [`cast_distance`], [`contact_patch`]: exact separating-axis queries for
-//!   pushing and squeezing (`sat.rs`).
+//!   pushing and squeezing (`sat.rs`); [`contact_points`]: clipped contact points for the planar
+//!   closing simulation (`manifold.rs`).
 
 mod grasp_diameter;
+mod manifold;
 mod polygon;
 mod queries;
 mod sat;
 mod separation;
 
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
+pub use manifold::{ContactPoint, contact_points};
 pub use polygon::{ConvexPolygon, PolygonError, cross};
 pub use queries::{distance, overlap, point_distance};
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};

@@ -10,9 +10,11 @@
 //!   rollouts; this is not that network, and its predictions are only as good as the model's
 //!   assumptions (objects slide along the closing axis without turning; rigid frictional contacts).
 
+mod closing;
 mod jaws;
 mod model;
 mod multi;
+mod outcome;
 mod single;
 
 use serde::{Deserialize, Serialize};
@@ -22,8 +24,9 @@ use crate::plan::Outcome;
 use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;
-pub use model::{Body, GraspModel, Squeeze, squeeze, squeeze_bodies};
-pub use multi::{MultiObject, MultiObjectSettings};
+pub use model::{Body, GraspModel, Mechanics, Squeeze, caught_objects, squeeze, squeeze_bodies};
+pub use multi::{MultiObject, MultiObjectSettings, centre_line_offset};
+pub use outcome::{GraspOutcome, Judgement, ModelOutcome, Noise, noisy_copy, sample_seed};
 pub use single::{SingleObject, SingleObjectSettings};
 
 /// A planned grasp: where the jaws go and what the planner expects them to carry.

@@ -43,10 +43,32 @@ const SLIDE_TIE: f64 = 1e-9;
 /// Standard gravity, m/s².
 const GRAVITY: f64 = 9.81;
 
-/// Settings of the analytic grasp model.
+/// Objects this far beyond the plates' reach still take part in a planar closing (they may be
+/// pushed by what the jaws push), metres.
+const NEIGHBOURHOOD: f64 = 0.02;
+
+/// Which mechanics judge a closing.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Mechanics {
+    /// Objects slide along the closing axis without turning; each is held by Nguyen's two-contact
+    /// condition on its own (the model of the first pushmog releases, kept as a baseline).
+    Analytic,
+    /// The closing simulated in the plane (`closing.rs`): objects slide and turn on the table while
+    /// the coupled plates close on them; every caught object must end squeezed in the chain between
+    /// the plates, and that chain must lift.
+    #[default]
+    Planar,
+}
+
+/// Settings of the grasp model.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct GraspModel {
+    /// Which mechanics judge the closing. Default `planar`.
+    pub mechanics: Mechanics,
     /// Coulomb friction between a plate and an object. Default 0.4 (the plates' value in the public
     /// multi-object grasping simulation, `formulations/references.md`).
     pub friction_jaw: f64,
@@ -55,6 +77,12 @@ pub struct GraspModel {
     pub friction_object: f64,
     /// Grip force of the closed jaws, newtons. Default 20 (the Robotiq 2F-85's lowest setting).
     pub grip_force: f64,
+    /// Coulomb friction between an object and the table (`planar` only). Default 0.3: plastic or wood
+    /// on a laminate table (handbook values 0.2–0.4).
+    pub friction_table: f64,
+    /// Closing speed of the jaws, m/s (`planar` only). Default 0.05 (within the 2F-85's
+    /// 0.02–0.15 m/s).
+    pub jaw_speed: f64,
     /// Density used when an object has no mass, kg/m³. Default 1000 (solid plastic or dense wood).
     pub density: f64,
     /// Objects closer than this count as touching, metres. Default 1e-6.
@@ -64,9 +92,12 @@ pub struct GraspModel {
 impl Default for GraspModel {
     fn default() -> Self {
         Self {
+            mechanics: Mechanics::Planar,
             friction_jaw: 0.4,
             friction_object: 0.4,
             grip_force: 20.0,
+            friction_table: 0.3,
+            jaw_speed: 0.05,
             density: 1000.0,
             contact_tolerance: 1e-6,
         }
@@ -74,10 +105,11 @@ impl Default for GraspModel {
 }
 
 impl GraspModel {
-    /// The model with friction high enough never to let anything slip or drop: it then only asks
-    /// whether the objects form one row between the jaws (the geometric "fits the jaws" test).
+    /// The analytic model with friction high enough never to let anything slip or drop: it then only
+    /// asks whether the objects form one row between the jaws (the geometric "fits the jaws" test).
     pub fn unlimited_friction() -> Self {
         Self {
+            mechanics: Mechanics::Analytic,
             friction_jaw: 1e9,
             friction_object: 1e9,
             ..Self::default()
@@ -93,6 +125,7 @@ impl GraspModel {
             ("friction_jaw", self.friction_jaw),
             ("friction_object", self.friction_object),
             ("grip_force", self.grip_force),
+            ("friction_table", self.friction_table),
             ("density", self.density),
             ("contact_tolerance", self.contact_tolerance),
         ] {
@@ -140,16 +173,45 @@ pub enum Squeeze {
         /// Scene index.
         object: usize,
     },
+    /// This object (scene index) turns or slides out of the row while the jaws close (planar
+    /// mechanics).
+    Turns {
+        /// Scene index.
+        object: usize,
+    },
+
     /// The grip force cannot carry the row's weight.
     TooHeavy,
 }
 
-/// One contact of a row object: a patch (segment ends) and the inward normal.
+/// Which friction coefficient a contact has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Friction {
+    /// A plate on an object.
+    Jaw,
+    /// Two objects.
+    Object,
+}
+
+impl Friction {
+    /// The coefficient of this kind of contact under `model`.
+    pub fn of(self, model: &GraspModel) -> f64 {
+        match self {
+            Self::Jaw => model.friction_jaw,
+            Self::Object => model.friction_object,
+        }
+    }
+}
+
+/// One contact of the row: a patch (segment ends) and a unit normal.
 #[derive(Clone, Copy, Debug)]
-struct Side {
-    ends: [Point2<f64>; 2],
-    inward: Vector2<f64>,
-    friction: f64,
+pub(super) struct Side {
+    /// Ends of the contact segment (equal for a point contact).
+    pub ends: [Point2<f64>; 2],
+    /// Unit normal, pointing into the object the contact pushes.
+    pub inward: Vector2<f64>,
+    /// Which coefficient applies.
+    pub friction: Friction,
 }
 
 /// An object as the grasp model sees it: its outline on the table and its mass.
@@ -189,6 +251,112 @@ pub fn squeeze_bodies(
     jaws: &JawPose,
     model: &GraspModel,
 ) -> Squeeze {
+    let row = match form_row(bodies, gripper, jaws, model.contact_tolerance) {
+        Ok(row) => row,
+        Err(refusal) => return refusal,
+    };
+    match model.mechanics {
+        Mechanics::Analytic => {
+            if let Err(refusal) = judge_rigid(&row, model) {
+                return refusal;
+            }
+            let normals: Vec<Vector2<f64>> = row.contacts[1..row.contacts.len() - 1]
+                .iter()
+                .map(|c| c.inward)
+                .collect();
+            if let Err(refusal) = judge_lifting(&row.caught, &normals, bodies, &jaws.axis(), model)
+            {
+                return refusal;
+            }
+            Squeeze::Held {
+                width: row.width,
+                objects: row.caught,
+            }
+        }
+        Mechanics::Planar => judge_planar(&row, bodies, gripper, jaws, model),
+    }
+}
+
+/// Steps 1–3 alone (the jaws placed, the caught objects slid into a row, the plates meeting it):
+/// the caught objects (positions in `bodies`) in row order, or the refusal. No friction, no
+/// simulation: the cheap test a candidate passes before the mechanics judge it.
+pub(super) fn row_of(
+    bodies: &[Body<'_>],
+    gripper: &crate::scene::Gripper,
+    jaws: &JawPose,
+    model: &GraspModel,
+) -> std::result::Result<Vec<usize>, Squeeze> {
+    form_row(bodies, gripper, jaws, model.contact_tolerance).map(|row| row.caught)
+}
+
+/// The planar judgement: the closing simulated with turning objects (`closing.rs`); every caught
+/// object must end gripped, and the gripped row must lift.
+fn judge_planar(
+    row: &Row,
+    bodies: &[Body<'_>],
+    gripper: &crate::scene::Gripper,
+    jaws: &JawPose,
+    model: &GraspModel,
+) -> Squeeze {
+    // The caught objects and every object the closing might push: within reach of the jaws.
+    let reach = jaws.opening / 2.0 + gripper.plate_length + NEIGHBOURHOOD;
+    let near: Vec<usize> = (0..bodies.len())
+        .filter(|&i| {
+            let outline = bodies[i].outline;
+            let centroid = outline.centroid();
+            row.caught.contains(&i)
+                || nalgebra::distance(&centroid, &jaws.center)
+                    <= reach + outline.radius_about(&centroid)
+        })
+        .collect();
+    let local: Vec<Body<'_>> = near.iter().map(|&i| bodies[i]).collect();
+    let caught: Vec<usize> = row
+        .caught
+        .iter()
+        .filter_map(|i| near.iter().position(|j| j == i))
+        .collect();
+    let closed = super::closing::simulate_closing(&local, &caught, gripper, jaws, model);
+    let gripped: Vec<usize> = closed.gripped.iter().map(|&k| near[k]).collect();
+    if let Some(&lost) = row.caught.iter().find(|i| !gripped.contains(i)) {
+        return Squeeze::Turns { object: lost };
+    }
+    if !closed.squeezing {
+        return Squeeze::Slips {
+            object: row.caught[0],
+        };
+    }
+    if let Err(refusal) = judge_lifting(&gripped, &closed.interfaces, bodies, &jaws.axis(), model) {
+        return refusal;
+    }
+    Squeeze::Held {
+        width: closed.opening - gripper.plate_thickness,
+        objects: gripped,
+    }
+}
+
+/// The row the closing jaws form, before any judgement of friction: which objects are caught, in
+/// order from the plate that closes along `+a`, where they end up, and how far each had to slide.
+#[derive(Clone, Debug)]
+pub(super) struct Row {
+    /// Indices (in the bodies) of the caught objects, in row order along `a`.
+    pub caught: Vec<usize>,
+    /// Their outlines once closed (each slid along the axis onto its predecessor).
+    pub outlines: Vec<ConvexPolygon>,
+    /// Contacts along the row: the first plate with the first object, each object with the next, the
+    /// last object with the other plate; normals point along the row (`+a` side).
+    pub contacts: Vec<Side>,
+    /// Distance between the plate faces when closed, metres.
+    pub width: f64,
+}
+
+/// Places the open jaws, slides the caught objects into a row along the axis and closes the plates
+/// on it (steps 1–3 of the module docs); `Err` with the refusal when that fails.
+pub(super) fn form_row(
+    bodies: &[Body<'_>],
+    gripper: &crate::scene::Gripper,
+    jaws: &JawPose,
+    tolerance: f64,
+) -> std::result::Result<Row, Squeeze> {
     let axis = jaws.axis();
     let plates = jaws.plates(gripper);
     let between = jaws.between(gripper);
@@ -201,20 +369,20 @@ pub fn squeeze_bodies(
             continue;
         }
         if plates.iter().any(|p| overlap(p, outline, 0.0)) {
-            return Squeeze::PlateHits { object: index };
+            return Err(Squeeze::PlateHits { object: index });
         }
         if overlap(&between, outline, 0.0) {
             let (low, high) = outline.projection(&axis);
             let middle = jaws.center.coords.dot(&axis);
             let half_gap = jaws.gap(gripper) / 2.0;
             if low < middle - half_gap || high > middle + half_gap {
-                return Squeeze::Straddles { object: index };
+                return Err(Squeeze::Straddles { object: index });
             }
             caught.push(index);
         }
     }
     if caught.is_empty() {
-        return Squeeze::Empty;
+        return Err(Squeeze::Empty);
     }
     let low = |p: &ConvexPolygon| p.projection(&axis).0;
     caught.sort_by(|&a, &b| low(bodies[a].outline).total_cmp(&low(bodies[b].outline)));
@@ -237,11 +405,10 @@ pub fn squeeze_bodies(
             Some((slide, predecessor)) if predecessor == k - 1 => {
                 row.push(moving.translated(&(-axis * slide)));
             }
-            _ => return Squeeze::NotARow { object: index },
+            _ => return Err(Squeeze::NotARow { object: index }),
         }
     }
     // Each plate closes along the axis until it meets the row; it must meet the row's end object first.
-    let tolerance = model.contact_tolerance;
     let last = row.len() - 1;
     let meet = |plate: &ConvexPolygon, direction: Vector2<f64>, end: usize| {
         let mut first: Option<(f64, usize)> = None;
@@ -258,87 +425,116 @@ pub fn squeeze_bodies(
             None => Err(caught[end]),
         }
     };
-    let (left_travel, left_plate) = match meet(&plates[1], axis, 0) {
-        Ok(found) => found,
-        Err(object) => return Squeeze::NotARow { object },
-    };
-    let (right_travel, right_plate) = match meet(&plates[0], -axis, last) {
-        Ok(found) => found,
-        Err(object) => return Squeeze::NotARow { object },
-    };
+    let (left_travel, left_plate) =
+        meet(&plates[1], axis, 0).map_err(|object| Squeeze::NotARow { object })?;
+    let (right_travel, right_plate) =
+        meet(&plates[0], -axis, last).map_err(|object| Squeeze::NotARow { object })?;
     let width = jaws.gap(gripper) - left_travel - right_travel;
+    let tolerance = tolerance.max(1e-9);
     let plate_contact = |plate: &ConvexPolygon, object: &ConvexPolygon| {
-        contact_patch(plate, object, tolerance.max(1e-9)).map(|patch| Side {
+        contact_patch(plate, object, tolerance).map(|patch| Side {
             ends: patch.ends,
             inward: patch.normal,
-            friction: model.friction_jaw,
+            friction: Friction::Jaw,
         })
     };
     let (Some(left_side), Some(right_side)) = (
         plate_contact(&left_plate, &row[0]),
         plate_contact(&right_plate, &row[last]),
     ) else {
-        return Squeeze::NotARow { object: caught[0] };
+        return Err(Squeeze::NotARow { object: caught[0] });
     };
-
-    // Friction in the plane, object by object.
-    let mut sides: Vec<[Side; 2]> = Vec::with_capacity(row.len());
-    let mut interface_normals: Vec<Vector2<f64>> = Vec::new();
-    for k in 0..row.len() {
-        let left = if k == 0 {
-            left_side
-        } else {
-            let Some(patch) = contact_patch(&row[k - 1], &row[k], tolerance.max(1e-9)) else {
-                return Squeeze::NotARow { object: caught[k] };
-            };
-            Side {
-                ends: patch.ends,
-                inward: patch.normal,
-                friction: model.friction_object,
-            }
+    let mut contacts = vec![left_side];
+    for k in 1..row.len() {
+        let Some(patch) = contact_patch(&row[k - 1], &row[k], tolerance) else {
+            return Err(Squeeze::NotARow { object: caught[k] });
         };
-        let right = if k == last {
-            right_side
-        } else {
-            let Some(patch) = contact_patch(&row[k], &row[k + 1], tolerance.max(1e-9)) else {
-                return Squeeze::NotARow {
-                    object: caught[k + 1],
-                };
-            };
-            interface_normals.push(patch.normal);
-            Side {
-                ends: patch.ends,
-                inward: -patch.normal,
-                friction: model.friction_object,
-            }
-        };
-        sides.push([left, right]);
+        contacts.push(Side {
+            ends: patch.ends,
+            inward: patch.normal,
+            friction: Friction::Object,
+        });
     }
-    for (k, [left, right]) in sides.iter().enumerate() {
-        if !two_contacts_hold(left, right) {
-            return Squeeze::Slips { object: caught[k] };
+    // The right plate's patch, with its normal turned to point along the row like the others.
+    contacts.push(Side {
+        inward: -right_side.inward,
+        ..right_side
+    });
+    Ok(Row {
+        caught,
+        outlines: row,
+        contacts,
+        width,
+    })
+}
+
+/// The analytic model's judgement of friction in the plane (step 4): each object is held between its
+/// two contacts by Nguyen's two-contact condition, objects judged one by one.
+fn judge_rigid(row: &Row, model: &GraspModel) -> std::result::Result<(), Squeeze> {
+    for k in 0..row.outlines.len() {
+        let before = row.contacts[k];
+        let after = Side {
+            inward: -row.contacts[k + 1].inward,
+            ..row.contacts[k + 1]
+        };
+        if !two_contacts_hold(&before, &after, model) {
+            return Err(Squeeze::Slips {
+                object: row.caught[k],
+            });
         }
     }
+    Ok(())
+}
 
-    // Lifting against gravity.
-    let masses: Vec<f64> = caught.iter().map(|&i| bodies[i].mass).collect();
+/// Lifting against gravity (step 5): the plates carry the row's weight by friction, and every
+/// interface (unit normals between consecutive objects of `row`) carries the weight on one side of
+/// it.
+fn judge_lifting(
+    row: &[usize],
+    interfaces: &[Vector2<f64>],
+    bodies: &[Body<'_>],
+    axis: &Vector2<f64>,
+    model: &GraspModel,
+) -> std::result::Result<(), Squeeze> {
+    let masses: Vec<f64> = row.iter().map(|&i| bodies[i].mass).collect();
     let weight: f64 = masses.iter().sum::<f64>() * GRAVITY;
     let force = model.grip_force;
     if model.friction_jaw * force < weight / 2.0 {
-        return Squeeze::TooHeavy;
+        return Err(Squeeze::TooHeavy);
     }
     let mut carried_left = 0.0;
-    for (k, normal) in interface_normals.iter().enumerate() {
+    for (k, normal) in interfaces.iter().enumerate() {
         carried_left += masses[k] * GRAVITY;
         let shear = (weight / 2.0 - carried_left).abs();
-        if shear > model.friction_object * force * normal.dot(&axis).abs() {
-            return Squeeze::TooHeavy;
+        if shear > model.friction_object * force * normal.dot(axis).abs() {
+            return Err(Squeeze::TooHeavy);
         }
     }
-    Squeeze::Held {
-        objects: caught,
-        width,
+    Ok(())
+}
+
+/// The scene indices of the objects caught between the open plates, or `None` when a plate would land
+/// on an object.
+pub fn caught_objects(scene: &Scene, jaws: &JawPose) -> Option<Vec<usize>> {
+    let gripper = scene.gripper();
+    let plates = jaws.plates(gripper);
+    let between = jaws.between(gripper);
+    let reach = jaws.opening / 2.0 + gripper.plate_length;
+    let mut caught = Vec::new();
+    for index in 0..scene.len() {
+        let outline = scene.world_polygon(index);
+        let centroid = scene.centroid(index);
+        if nalgebra::distance(&centroid, &jaws.center) > reach + outline.radius_about(&centroid) {
+            continue;
+        }
+        if plates.iter().any(|p| overlap(p, outline, 0.0)) {
+            return None;
+        }
+        if overlap(&between, outline, 0.0) {
+            caught.push(index);
+        }
     }
+    Some(caught)
 }
 
 /// Clearance between the open plates and the nearest object not in `held`, capped at `cap` metres.
@@ -364,7 +560,7 @@ pub(super) fn plate_clearance(scene: &Scene, jaws: &JawPose, held: &[usize], cap
 }
 
 /// Nguyen's condition over sampled points of two contact patches.
-fn two_contacts_hold(first: &Side, second: &Side) -> bool {
+fn two_contacts_hold(first: &Side, second: &Side, model: &GraspModel) -> bool {
     let samples = |side: &Side| -> Vec<Point2<f64>> {
         let [a, b] = side.ends;
         (0..5).map(|k| a + (b - a) * (k as f64 / 4.0)).collect()
@@ -376,8 +572,8 @@ fn two_contacts_hold(first: &Side, second: &Side) -> bool {
     };
     for p in samples(first) {
         for q in samples(second) {
-            if within(q - p, first.inward, first.friction)
-                && within(p - q, second.inward, second.friction)
+            if within(q - p, first.inward, first.friction.of(model))
+                && within(p - q, second.inward, second.friction.of(model))
             {
                 return true;
             }

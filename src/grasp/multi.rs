@@ -1,25 +1,42 @@
-//! Multi-object grasps: an analytic stand-in for MOG-Net.
+//! Multi-object grasps: an analytic stand-in for MOG-Net, chosen for how likely they are to hold.
 //!
-//! Candidates (after the public multi-object grasping code, `formulations/references.md`): jaw centres on a
-//! `grid[0] × grid[1]` grid over the bounding box of the target objects, kept inside the convex hull of
-//! their outlines, plus every target's centroid and the midpoint of every pair of target centroids;
-//! closing axes at `angles` even steps over `[0, π)`, plus the direction between every pair of target
-//! centroids and every target's narrowest-grasp axis. For every axis, the centre that best fits the
-//! targets (the middle of their extent along the axis and of the band across it they all cover) is a
-//! candidate too, and so is any pose the caller suggests (the push planner's intended grasp). The jaws
-//! open to `opening_fraction` of the stroke (fully by default, as in the paper). Each candidate is scored by [`GraspModel`]: the most
-//! objects predicted held wins, ties go to the larger clearance between the open plates and the other
-//! objects, then to the narrower row. A candidate must hold at least one target.
+//! **Candidates** (after the public multi-object grasping code, `formulations/references.md`): jaw
+//! centres on a `grid[0] × grid[1]` grid over the bounding box of the target objects, kept inside the
+//! convex hull of their outlines, plus every target's centroid and the midpoint of every pair of
+//! target centroids; closing axes at `angles` even steps over `[0, π)`, plus the direction between
+//! every pair of target centroids and every target's narrowest-grasp axis. For every axis, the centre
+//! that best fits the targets (the middle of their extent along the axis and of the band across it
+//! they all cover) is a candidate too, and so is any pose the caller suggests (the push planner's
+//! intended grasp). The jaws open to `opening_fraction` of the stroke (fully by default, as in the
+//! paper).
 //!
-//! This is not the learned MOG-Net: it predicts with the rigid-contact model of `model.rs`.
+//! **Screening** (cheap, every candidate): the open plates must keep `clearance_sigmas` standard
+//! deviations of the noise from every object, the ones to be grasped included (noise must not put a
+//! plate on an object; a pushed object counts its push error too), and
+//! the caught objects must slide into one row between the plates, with at least one target.
+//!
+//! **Judging** (the outcome model, [`GraspOutcome`], on the most promising candidates only): by
+//! default the planar mechanics of `closing.rs` on the observed table and on `samples − 1` noisy
+//! copies of it ([`Noise`]). Candidates are judged in order of how many objects they catch, then of how
+//! close the caught centroids lie to the plates' centre line (the simulator holds rows near that line
+//! far more often), then of clearance; at most `tries_per_set` per set of caught objects and
+//! `max_judged` in all.
+//!
+//! **Ranking**: by the estimated probability that every predicted object is carried, then by the
+//! number of objects, then by clearance; a candidate below `min_probability` is not used. The search
+//! stops at the first candidate that held in every sample (nothing judged later can rank above it).
+//!
+//! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing.rs`.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, plate_clearance, squeeze};
+use super::model::{GraspModel, Squeeze, row_of, squeeze};
+use super::outcome::{GraspOutcome, ModelOutcome, Noise, scene_bodies};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull};
@@ -38,6 +55,21 @@ pub struct MultiObjectSettings {
     pub opening_fraction: f64,
     /// The grasp model.
     pub model: GraspModel,
+    /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
+    /// Default 4.
+    pub samples: usize,
+    /// The noise of the other samples. Defaults: the simulator's.
+    pub noise: Noise,
+    /// Least gap between an open plate and any object, in standard deviations of where the plate
+    /// ends up relative to that object (`Noise::position_sigma`). Default 1.5: 3.4 mm from an object
+    /// as observed, 4.5 mm from a pushed one.
+    pub clearance_sigmas: f64,
+    /// Least estimated probability of a grasp to be used. Default 0.75.
+    pub min_probability: f64,
+    /// Candidates judged per set of caught objects. Default 8.
+    pub tries_per_set: usize,
+    /// Candidates judged per call. Default 40.
+    pub max_judged: usize,
 }
 
 impl Default for MultiObjectSettings {
@@ -47,6 +79,12 @@ impl Default for MultiObjectSettings {
             angles: 12,
             opening_fraction: 1.0,
             model: GraspModel::default(),
+            samples: 4,
+            noise: Noise::default(),
+            clearance_sigmas: 1.5,
+            min_probability: 0.75,
+            tries_per_set: 8,
+            max_judged: 40,
         }
     }
 }
@@ -59,36 +97,112 @@ impl MultiObjectSettings {
     pub fn validate(&self) -> Result<()> {
         if self.grid[0] == 0 || self.grid[1] == 0 || self.angles == 0 {
             return Err(Error::field(
-                "multi_object",
+                "multi",
                 "grid/angles",
                 "need at least one grid point and one angle",
             ));
         }
+        if self.grid[0] > 100 || self.grid[1] > 100 || self.angles > 360 {
+            return Err(Error::field(
+                "multi",
+                "grid/angles",
+                "at most 100 × 100 grid points and 360 angles (each candidate is judged)",
+            ));
+        }
         if !(self.opening_fraction > 0.0 && self.opening_fraction <= 1.0) {
             return Err(Error::field(
-                "multi_object",
+                "multi",
                 "opening_fraction",
                 format!("must be in (0, 1], got {}", self.opening_fraction),
             ));
         }
+        if !(1..=64).contains(&self.samples) {
+            return Err(Error::field(
+                "multi",
+                "samples",
+                format!("must be between 1 and 64, got {}", self.samples),
+            ));
+        }
+        if !(self.clearance_sigmas.is_finite() && (0.0..=5.0).contains(&self.clearance_sigmas)) {
+            return Err(Error::field(
+                "multi",
+                "clearance_sigmas",
+                format!("must be between 0 and 5, got {}", self.clearance_sigmas),
+            ));
+        }
+        if !(self.min_probability.is_finite() && (0.0..=1.0).contains(&self.min_probability)) {
+            return Err(Error::field(
+                "multi",
+                "min_probability",
+                format!("must be in [0, 1], got {}", self.min_probability),
+            ));
+        }
+        if self.tries_per_set == 0 || self.max_judged == 0 || self.max_judged > 1000 {
+            return Err(Error::field(
+                "multi",
+                "tries_per_set/max_judged",
+                "need at least one judged candidate, and at most 1000 per call",
+            ));
+        }
+        self.noise.validate()?;
         self.model.validate()
     }
 }
 
-/// Multi-object grasps ranked by the analytic grasp model.
-#[derive(Clone, Debug, Default)]
+/// Multi-object grasps ranked by an outcome model.
+#[derive(Clone, Debug)]
 pub struct MultiObject {
     settings: MultiObjectSettings,
+    outcome: Arc<dyn GraspOutcome>,
+}
+
+impl Default for MultiObject {
+    fn default() -> Self {
+        let settings = MultiObjectSettings::default();
+        Self {
+            outcome: Arc::new(ModelOutcome {
+                model: settings.model.clone(),
+                samples: settings.samples,
+                noise: settings.noise.clone(),
+            }),
+            settings,
+        }
+    }
 }
 
 impl MultiObject {
-    /// A planner with these settings.
+    /// A planner with these settings, judging candidates with its grasp model (robustly when
+    /// `samples > 1`).
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn new(settings: MultiObjectSettings) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings })
+        Ok(Self {
+            outcome: Arc::new(ModelOutcome {
+                model: settings.model.clone(),
+                samples: settings.samples,
+                noise: settings.noise.clone(),
+            }),
+            settings,
+        })
+    }
+
+    /// A planner with these settings judging candidates with `outcome` (a physics rollout, say).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn with_outcome(
+        settings: MultiObjectSettings,
+        outcome: Arc<dyn GraspOutcome>,
+    ) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self { settings, outcome })
+    }
+
+    /// The outcome model's name.
+    pub fn outcome_name(&self) -> &'static str {
+        self.outcome.name()
     }
 
     /// The effective settings.
@@ -230,55 +344,138 @@ impl GraspPlanner for MultiObject {
         targets: &[ObjectId],
         hints: &[JawPose],
     ) -> Result<Outcome<Option<Grasp>>> {
+        self.plan_after_pushes(scene, targets, hints, &[])
+    }
+}
+
+impl MultiObject {
+    /// As [`GraspPlanner::plan_with_hints`] on a table predicted after pushes: the objects `pushed`
+    /// stand where the pushes are meant to leave them, so the plates keep further from them and the
+    /// samples move them by the push error too.
+    ///
+    /// # Errors
+    /// An id that is not in the scene.
+    pub fn plan_after_pushes(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        hints: &[JawPose],
+        pushed: &[ObjectId],
+    ) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
-        let mut best: Option<(usize, Grasp)> = None;
-        let mut evaluated = 0usize;
+        let pushed = scene.indices_of(pushed)?;
+        let settings = &self.settings;
+        let bodies = scene_bodies(scene, &settings.model);
         let mut refusals: BTreeMap<&'static str, usize> = BTreeMap::new();
-        if !indices.is_empty() {
-            for jaws in self.candidates(scene, &indices, hints) {
-                {
-                    evaluated += 1;
-                    let outcome = squeeze(scene, &jaws, &self.settings.model);
-                    let Squeeze::Held { objects, width } = outcome else {
-                        *refusals.entry(refusal_name(&outcome)).or_default() += 1;
-                        continue;
-                    };
-                    if !objects.iter().any(|o| indices.contains(o)) {
-                        *refusals.entry("holds no target").or_default() += 1;
-                        continue;
-                    }
-                    let count = objects.len();
-                    // Cheap pre-check before the clearance query.
-                    if best.as_ref().is_some_and(|(c, _)| count < *c) {
-                        continue;
-                    }
-                    let margin = plate_clearance(scene, &jaws, &objects, 0.05);
-                    let better = best.as_ref().is_none_or(|(c, b)| {
-                        count > *c
-                            || margin > b.margin + 1e-12
-                            || (margin >= b.margin - 1e-12 && width < b.width - 1e-12)
-                    });
-                    if better {
-                        let ids = objects.iter().map(|&i| scene.objects()[i].id).collect();
-                        best = Some((
-                            count,
-                            Grasp {
-                                jaws,
-                                objects: ids,
-                                width,
-                                margin,
-                            },
-                        ));
-                    }
+        let mut screened: Vec<Screened> = Vec::new();
+        let candidates = if indices.is_empty() {
+            Vec::new()
+        } else {
+            self.candidates(scene, &indices, hints)
+        };
+        for jaws in &candidates {
+            let caught = match row_of(&bodies, scene.gripper(), jaws, &settings.model) {
+                Ok(caught) => caught,
+                Err(refusal) => {
+                    *refusals.entry(refusal_name(&refusal)).or_default() += 1;
+                    continue;
                 }
+            };
+            if !caught.iter().any(|o| indices.contains(o)) {
+                *refusals.entry("holds no target").or_default() += 1;
+                continue;
+            }
+            let mut sorted = caught.clone();
+            sorted.sort_unstable();
+            let (clearance, enough) = self.clearance(scene, jaws, &pushed);
+            if !enough {
+                *refusals.entry("plates too close").or_default() += 1;
+                continue;
+            }
+            screened.push(Screened {
+                jaws: *jaws,
+                offset: centre_line_offset(scene, jaws, &caught),
+                caught: sorted,
+                clearance,
+            });
+        }
+        // Most objects first, then nearest the plates' centre line, then most clearance.
+        screened.sort_by(|a, b| {
+            b.caught
+                .len()
+                .cmp(&a.caught.len())
+                .then(a.offset.total_cmp(&b.offset))
+                .then(b.clearance.total_cmp(&a.clearance))
+        });
+        let mut tried: BTreeMap<Vec<usize>, usize> = BTreeMap::new();
+        let mut best: Option<(f64, Grasp)> = None;
+        let mut judged = 0usize;
+        for candidate in &screened {
+            if judged >= settings.max_judged {
+                break;
+            }
+            let count = candidate.caught.len();
+            // Nothing judged from here on can rank above a candidate that held in every sample with
+            // as many objects.
+            if best
+                .as_ref()
+                .is_some_and(|(p, g)| *p >= 1.0 && g.objects.len() >= count)
+            {
+                break;
+            }
+            let tries = tried.entry(candidate.caught.clone()).or_default();
+            if *tries >= settings.tries_per_set {
+                continue;
+            }
+            *tries += 1;
+            judged += 1;
+            // A candidate must beat the best so far: fewer failures than it allowed.
+            let samples = settings.samples;
+            let floor = best.as_ref().map_or(settings.min_probability, |(p, _)| {
+                settings.min_probability.max(*p)
+            });
+            let max_failures = ((1.0 - floor) * samples as f64 + 1e-9).floor() as usize;
+            let judgement = self
+                .outcome
+                .judge(scene, &candidate.jaws, &pushed, max_failures);
+            let Squeeze::Held { objects, width } = &judgement.nominal else {
+                *refusals
+                    .entry(refusal_name(&judgement.nominal))
+                    .or_default() += 1;
+                continue;
+            };
+            let probability = judgement.probability();
+            if probability < settings.min_probability {
+                *refusals.entry("not robust to noise").or_default() += 1;
+                continue;
+            }
+            let better = best.as_ref().is_none_or(|(p, g)| {
+                probability > *p + 1e-12
+                    || (probability >= *p - 1e-12
+                        && (objects.len() > g.objects.len()
+                            || (objects.len() == g.objects.len()
+                                && candidate.clearance > g.margin + 1e-12)))
+            });
+            if better {
+                best = Some((
+                    probability,
+                    Grasp {
+                        jaws: candidate.jaws,
+                        objects: objects.iter().map(|&i| scene.objects()[i].id).collect(),
+                        width: *width,
+                        margin: candidate.clearance,
+                    },
+                ));
             }
         }
         let status = match &best {
             Some(_) => Status::Heuristic,
             None => Status::Failed {
                 reason: format!(
-                    "no candidate holds a target ({evaluated} tried: {})",
+                    "no candidate holds a target ({} tried, {judged} judged by the {} model: {})",
+                    candidates.len(),
+                    self.outcome.name(),
                     refusals
                         .iter()
                         .map(|(k, v)| format!("{k} {v}"))
@@ -287,15 +484,116 @@ impl GraspPlanner for MultiObject {
                 ),
             },
         };
+        let probability = best.as_ref().map_or(0.0, |(p, _)| *p);
         Ok(Outcome {
             value: best.map(|(_, grasp)| grasp),
             status,
             stats: Stats {
                 seconds: started.elapsed().as_secs_f64(),
-                counters: vec![("candidates".to_string(), evaluated as f64)],
+                counters: [
+                    ("candidates".to_string(), candidates.len() as f64),
+                    ("screened".to_string(), screened.len() as f64),
+                    ("judged".to_string(), judged as f64),
+                    ("probability".to_string(), probability),
+                ]
+                .into_iter()
+                .chain(
+                    refusals
+                        .iter()
+                        .map(|(why, n)| (format!("refused: {why}"), *n as f64)),
+                )
+                .collect(),
                 ..Stats::default()
             },
         })
+    }
+}
+
+/// Clearance is measured up to this, metres.
+const CLEARANCE_CAP: f64 = 0.05;
+
+impl MultiObject {
+    /// The gap between the open plates and the nearest object (capped), and whether every object
+    /// is at least `clearance_sigmas` of its noise away.
+    fn clearance(&self, scene: &Scene, jaws: &JawPose, pushed: &[usize]) -> (f64, bool) {
+        let noise = &self.settings.noise;
+        let plates = jaws.plates(scene.gripper());
+        let mut nearest = CLEARANCE_CAP;
+        let mut enough = true;
+        for index in 0..scene.len() {
+            let outline = scene.world_polygon(index);
+            let centroid = scene.centroid(index);
+            if nalgebra::distance(&centroid, &jaws.center)
+                > jaws.opening / 2.0 + CLEARANCE_CAP + outline.radius_about(&centroid)
+            {
+                continue;
+            }
+            let gap = plates
+                .iter()
+                .map(|p| crate::geometry::distance(p, outline))
+                .fold(f64::INFINITY, f64::min);
+            nearest = nearest.min(gap);
+            let sigma = noise.position_sigma(pushed.contains(&index));
+            enough &= gap >= self.settings.clearance_sigmas * sigma;
+        }
+        (nearest, enough)
+    }
+}
+
+/// A candidate that passed the screening.
+#[derive(Clone, Debug)]
+struct Screened {
+    jaws: JawPose,
+    /// Scene indices of the caught objects, sorted.
+    caught: Vec<usize>,
+    /// Furthest caught centroid from the plates' centre line, metres.
+    offset: f64,
+    /// Gap between the open plates and the nearest object, metres.
+    clearance: f64,
+}
+
+/// Furthest distance of these objects' centroids from the line through the jaw centre along the
+/// closing axis, metres.
+pub fn centre_line_offset(scene: &Scene, jaws: &JawPose, indices: &[usize]) -> f64 {
+    let axis = jaws.axis();
+    let across = Vector2::new(-axis.y, axis.x);
+    indices
+        .iter()
+        .map(|&i| (scene.centroid(i) - jaws.center).dot(&across).abs())
+        .fold(0.0, f64::max)
+}
+
+impl MultiObject {
+    /// Candidate grasps of `targets` that the model refuses although their open plates land on
+    /// nothing and they catch two or more objects, each with the caught objects as its `objects`;
+    /// in candidate order. For measuring how often the model refuses what physics would hold.
+    ///
+    /// # Errors
+    /// An id that is not in the scene.
+    pub fn refused(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Vec<Grasp>> {
+        let indices = scene.indices_of(targets)?;
+        let mut refused = Vec::new();
+        for jaws in self.candidates(scene, &indices, &[]) {
+            let Some(caught) = super::model::caught_objects(scene, &jaws) else {
+                continue;
+            };
+            if caught.len() < 2 {
+                continue;
+            }
+            let held = matches!(
+                squeeze(scene, &jaws, &self.settings.model),
+                Squeeze::Held { ref objects, .. } if objects.len() == caught.len()
+            );
+            if !held {
+                refused.push(Grasp {
+                    jaws,
+                    objects: caught.iter().map(|&i| scene.objects()[i].id).collect(),
+                    width: 0.0,
+                    margin: 0.0,
+                });
+            }
+        }
+        Ok(refused)
     }
 }
 
@@ -307,6 +605,7 @@ fn refusal_name(squeeze: &Squeeze) -> &'static str {
         Squeeze::Straddles { .. } => "object reaches past a plate",
         Squeeze::NotARow { .. } => "not a row",
         Squeeze::Slips { .. } => "slips",
+        Squeeze::Turns { .. } => "turns out",
         Squeeze::TooHeavy => "too heavy",
     }
 }

@@ -2,15 +2,16 @@
 //!
 //! Candidates are the object's stable edge-flush grasps ([`edge_grasps`]): the closing axis is an edge
 //! normal, the jaws centre on the middle of the facing contacts, and the plates open to the object's
-//! width there plus `clearance` on each side (capped at the stroke). A candidate is kept when the grasp
-//! model predicts exactly this object held. Among those, the one with the most clearance to other
-//! objects wins, then the narrowest.
+//! width there plus `clearance` on each side (capped at the stroke; half of it when neighbours are
+//! close). Candidates whose jaws catch this object alone are ordered by clearance to other objects,
+//! then narrowest first, and the first the grasp model predicts held wins.
 
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, plate_clearance, squeeze};
+use super::model::{GraspModel, Squeeze, plate_clearance, row_of, squeeze};
+use super::outcome::scene_bodies;
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::edge_grasps;
@@ -88,8 +89,10 @@ impl SingleObject {
         let gripper = scene.gripper();
         let object = &scene.objects()[index];
         let pose = object.pose.isometry();
-        let mut best: Option<Grasp> = None;
+        let bodies = scene_bodies(scene, &self.settings.model);
         let mut last_reason = format!("object {} is wider than the jaw gap", object.id);
+        // Cheap geometry first: jaws that catch this object alone, with their clearance.
+        let mut candidates: Vec<(f64, f64, JawPose)> = Vec::new();
         for candidate in edge_grasps(&object.polygon) {
             if candidate.diameter > gripper.usable_gap() {
                 continue;
@@ -106,28 +109,17 @@ impl SingleObject {
                     opening,
                 };
                 *evaluated += 1;
-                match squeeze(scene, &jaws, &self.settings.model) {
-                    Squeeze::Held { objects, width } if objects == [index] => {
-                        let margin = plate_clearance(scene, &jaws, &objects, 0.05);
-                        let better = best.as_ref().is_none_or(|b| {
-                            margin > b.margin + 1e-12
-                                || (margin >= b.margin - 1e-12 && width < b.width)
-                        });
-                        if better {
-                            best = Some(Grasp {
-                                jaws,
-                                objects: vec![object.id],
-                                width,
-                                margin,
-                            });
-                        }
+                match row_of(&bodies, gripper, &jaws, &self.settings.model) {
+                    Ok(caught) if caught == [index] => {
+                        let margin = plate_clearance(scene, &jaws, &caught, 0.05);
+                        candidates.push((margin, candidate.diameter, jaws));
                         break;
                     }
-                    Squeeze::Held { objects, .. } => {
+                    Ok(caught) => {
                         last_reason = format!(
                             "jaws around object {} would also catch object {}",
                             object.id,
-                            scene.objects()[objects
+                            scene.objects()[caught
                                 .iter()
                                 .copied()
                                 .find(|&o| o != index)
@@ -135,15 +127,30 @@ impl SingleObject {
                             .id
                         );
                     }
-                    Squeeze::PlateHits { object: hit } => {
+                    Err(Squeeze::PlateHits { object: hit }) => {
                         last_reason =
                             format!("a plate would land on object {}", scene.objects()[hit].id);
                     }
-                    other => last_reason = format!("{other:?}"),
+                    Err(other) => last_reason = format!("{other:?}"),
                 }
             }
         }
-        best.ok_or(last_reason)
+        // Most clearance first, then the narrowest; the first the model holds wins.
+        candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.total_cmp(&b.1)));
+        for (margin, _, jaws) in candidates {
+            match squeeze(scene, &jaws, &self.settings.model) {
+                Squeeze::Held { objects, width } if objects == [index] => {
+                    return Ok(Grasp {
+                        jaws,
+                        objects: vec![object.id],
+                        width,
+                        margin,
+                    });
+                }
+                other => last_reason = format!("{other:?}"),
+            }
+        }
+        Err(last_reason)
     }
 }
 

@@ -9,8 +9,9 @@
 //!   the pushed object at contact, and their sweep to the end of the push touches no other object;
 //! - **grasp**, on the table after the pushes: the opening lies within the stroke; the open plates
 //!   overlap no object; every object the grasp claims lies between the plates; the claimed closed width
-//!   is positive and at most both the sum of their widths along the closing axis and the gap between
-//!   the open plates (the plates are short, so they may close past parts of objects beside them);
+//!   is positive and at most both the sum of their diameters (objects may turn while the jaws close)
+//!   and the gap between the open plates (the plates are short, so they may close past parts of
+//!   objects beside them);
 //! - **carried** objects are on the table.
 
 use nalgebra::{Point2, Vector2};
@@ -287,7 +288,6 @@ fn check_grasp(scene: &Scene, world: &[ConvexPolygon], trip: &Trip, found: &mut 
         ));
         return;
     }
-    let axis = jaws.axis();
     let plates = jaws.plates(gripper);
     for (index, outline) in world.iter().enumerate() {
         if plates.iter().any(|p| overlap(p, outline, TOLERANCE)) {
@@ -307,7 +307,13 @@ fn check_grasp(scene: &Scene, world: &[ConvexPolygon], trip: &Trip, found: &mut 
         if !overlap(&between, &world[index], 0.0) {
             found.push(format!("grasp: object {id} is not between the plates"));
         }
-        total += world[index].width(&axis);
+        // An object may turn while the jaws close, so it can end up to its diameter wide.
+        let outline = &world[index];
+        total += outline
+            .vertices()
+            .iter()
+            .flat_map(|a| outline.vertices().iter().map(move |b| (a - b).norm()))
+            .fold(0.0, f64::max);
     }
     // The plates are short: they may close past parts of an object that lie beside them, so the
     // closed width has no lower bound but zero.
@@ -316,7 +322,7 @@ fn check_grasp(scene: &Scene, world: &[ConvexPolygon], trip: &Trip, found: &mut 
         && (claimed <= 0.0 || claimed > total + TOUCH || claimed > jaws.gap(gripper) + TOUCH)
     {
         found.push(format!(
-            "grasp: closed width {:.2} mm is not in (0, min(sum of widths {:.2} mm, gap {:.2} mm)]",
+            "grasp: closed width {:.2} mm is not in (0, min(sum of diameters {:.2} mm, gap {:.2} mm)]",
             claimed * 1e3,
             total * 1e3,
             jaws.gap(gripper) * 1e3

@@ -21,6 +21,7 @@
 //! row, or at the trip limit; it never loops forever.
 
 use std::str::FromStr;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -29,7 +30,7 @@ use crate::cluster::{
     Clusterer, Clustering, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
 };
 use crate::error::{Error, Result};
-use crate::exec::Executor;
+use crate::exec::{Executor, Rollout, SimSettings};
 use crate::grasp::{
     Grasp, GraspPlanner, JawPose, MultiObject, MultiObjectSettings, SingleObject,
     SingleObjectSettings,
@@ -149,6 +150,10 @@ pub struct PolicySettings {
     pub multi: MultiObjectSettings,
     /// Limits of the loop.
     pub run: LoopSettings,
+    /// Judge multi-object candidates by rolling each sample out in the rapier simulator (default
+    /// settings) instead of with the grasp model: slower by two orders of magnitude, for comparison.
+    /// Default false.
+    pub rollout: bool,
     /// Seconds per trip and per push: the time each run reports, and the time the MILP clustering
     /// minimises (it replaces `milp.time_model`).
     pub time_model: TimeModel,
@@ -288,7 +293,18 @@ impl Policy {
                 AnyPusher::TowardCentral(TowardCentral::new(settings.pushing.clone())?)
             },
             single: SingleObject::new(settings.single.clone())?,
-            multi: MultiObject::new(settings.multi.clone())?,
+            multi: if settings.rollout {
+                MultiObject::with_outcome(
+                    settings.multi.clone(),
+                    Arc::new(Rollout {
+                        settings: SimSettings::default(),
+                        samples: settings.multi.samples,
+                        noise: settings.multi.noise.clone(),
+                    }),
+                )?
+            } else {
+                MultiObject::new(settings.multi.clone())?
+            },
             settings,
         })
     }
@@ -301,6 +317,18 @@ impl Policy {
     /// The effective settings.
     pub fn settings(&self) -> &PolicySettings {
         &self.settings
+    }
+
+    /// Grasps of `targets` the multi-object planner refuses although they catch two or more objects
+    /// and land on nothing, evenly spread over its candidates (see [`MultiObject::refused`]).
+    ///
+    /// # Errors
+    /// An id that is not in the scene.
+    pub fn refused_candidates(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Vec<Grasp>> {
+        let all = self.multi.refused(scene, targets)?;
+        // Every k-th, so a few replays sample the whole list.
+        let stride = (all.len() / 8).max(1);
+        Ok(all.into_iter().step_by(stride).collect())
     }
 
     /// Clears `scene` with `executor`, planning after every observation; `seed` drives the random
@@ -493,11 +521,20 @@ impl Policy {
         } else {
             (Vec::new(), Vec::new(), observed.clone(), Vec::new())
         };
-        let mut outcome = self.multi.plan_with_hints(&predicted, &members, &hints)?;
-        if outcome.value.is_none() {
-            let fallback = self.single.plan(&predicted, &members)?;
-            if fallback.value.is_some() {
-                outcome = fallback;
+        let pushed: Vec<ObjectId> = pushes.iter().map(|p| p.object).collect();
+        let mut outcome = self
+            .multi
+            .plan_after_pushes(&predicted, &members, &hints, &pushed)?;
+        // One object is taken by the single-object planner (jaws opened just wider than the object,
+        // flush on an edge), not by jaws opened fully around it.
+        if outcome.value.as_ref().is_none_or(|g| g.objects.len() < 2) {
+            let targets: Vec<ObjectId> = match &outcome.value {
+                Some(grasp) => grasp.objects.clone(),
+                None => members.clone(),
+            };
+            let single = self.single.plan(&predicted, &targets)?;
+            if single.value.is_some() {
+                outcome = single;
             }
         }
         Ok(match outcome.value {

@@ -67,6 +67,8 @@ pub fn compare_pushing(
     let socp = Socp::new(socp.clone())?;
     let fits = MultiObject::new(MultiObjectSettings {
         model: GraspModel::unlimited_friction(),
+        samples: 1,
+        clearance_sigmas: 0.0,
         ..MultiObjectSettings::default()
     })?;
     let holds = MultiObject::new(MultiObjectSettings {

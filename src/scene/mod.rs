@@ -13,6 +13,7 @@ mod generator;
 mod gripper;
 mod library;
 mod object;
+mod perturb;
 mod validation;
 
 use nalgebra::Point2;
@@ -26,6 +27,7 @@ pub use generator::{GeneratorSettings, generate_scene};
 pub use gripper::Gripper;
 pub use library::{LibraryObject, ObjectSet, builtin_object_set};
 pub use object::{Object, ObjectId, ObjectSpec, Pose};
+pub use perturb::perturb;
 pub use validation::{OUTSIDE_TOLERANCE, OVERLAP_TOLERANCE};
 pub use workspace::Workspace;
 

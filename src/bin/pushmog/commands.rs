@@ -9,6 +9,7 @@ use pushmog::cluster::{
 };
 use pushmog::error::{Error, Result};
 use pushmog::exec::{Executor, Ideal, Sim, SimSettings};
+use pushmog::experiment::agreement::{AgreementSettings, agreement_markdown, replay_grasps};
 use pushmog::experiment::{
     ExperimentConfig, Log, RunnerOptions, merge_logs, read_log, run_experiment, write_log,
     write_report,
@@ -22,8 +23,8 @@ use pushmog::scene::{
 };
 
 use super::{
-    ClusterArgs, CompareArgs, ComparePushingArgs, ExperimentArgs, GenerateArgs, PlanArgs,
-    RenderArgs, RunArgs, SchemaFormat,
+    AgreementArgs, ClusterArgs, CompareArgs, ComparePushingArgs, ExperimentArgs, GenerateArgs,
+    PlanArgs, RenderArgs, RunArgs, SchemaFormat,
 };
 
 /// Reads a file, or standard input for `-`.
@@ -164,6 +165,34 @@ fn sim_seed(seed: u64) -> u64 {
     seed ^ 0x5157_5349_4d00_0000
 }
 
+pub fn grasp_agreement(args: &AgreementArgs) -> Result<()> {
+    let policy = policy(&args.policy, args.settings.as_deref())?;
+    let settings = AgreementSettings {
+        scenes: args.scenes,
+        first_seed: args.seed,
+        objects: args.objects,
+        policy: policy.kind(),
+        policy_settings: policy.settings().clone(),
+        sim: settings_or_default(args.sim_settings.as_deref())?,
+        refused_per_trip: args.refused,
+    };
+    let replays = replay_grasps(&settings)?;
+    let title = format!(
+        "Grasp agreement — {} on {} scenes of {} objects (seeds {}–{}), simulator replays",
+        args.policy,
+        args.scenes,
+        args.objects,
+        args.seed,
+        args.seed + args.scenes.saturating_sub(1) as u64
+    );
+    let text = agreement_markdown(&replays, &title);
+    if let Some(path) = &args.output {
+        json::write_text(path, &text)?;
+    }
+    print!("{text}");
+    Ok(())
+}
+
 pub fn plan(args: &PlanArgs) -> Result<()> {
     let scene = read_scene(&args.scene)?;
     let policy = policy(&args.policy, args.settings.as_deref())?;
@@ -179,13 +208,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let policy = policy(&args.policy, args.settings.as_deref())?;
     let mut sim: SimSettings = settings_or_default(args.sim_settings.as_deref())?;
     if args.noiseless {
-        sim = SimSettings {
-            perception_position: 0.0,
-            perception_yaw: 0.0,
-            actuation_position: 0.0,
-            actuation_yaw: 0.0,
-            ..sim
-        };
+        sim = SimSettings::noiseless_from(&sim);
     }
     let mut executor = executor(&args.executor, &policy, Some((sim, sim_seed(args.seed))))?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;

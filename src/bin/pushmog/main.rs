@@ -34,6 +34,9 @@ enum Command {
     CompareClustering(CompareArgs),
     /// Compare the paper's pushes against SOCP push targets on the same clusters; prints a Markdown table.
     ComparePushing(ComparePushingArgs),
+    /// Replay every grasp a policy plans on seeded scenes in the simulator, from the scene the
+    /// planner assumed, without and with noise; prints how often physics carried what was predicted.
+    GraspAgreement(AgreementArgs),
     /// Run an experiment configuration: every run logged, then its tables and figures.
     Experiment(ExperimentArgs),
     /// Join the logs of the shards of one experiment.
@@ -248,6 +251,34 @@ struct ComparePushingArgs {
 }
 
 #[derive(Args, Debug)]
+struct AgreementArgs {
+    /// Number of scenes.
+    #[arg(long, default_value_t = 10)]
+    scenes: usize,
+    /// Seed of the first scene (the others follow).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Objects per scene.
+    #[arg(long, default_value_t = 34)]
+    objects: usize,
+    /// Policy whose grasps are replayed.
+    #[arg(long, default_value = "push-mog")]
+    policy: String,
+    /// Policy settings as JSON (fields not given keep their defaults).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Simulator settings as JSON (its noise is used for the noisy replays).
+    #[arg(long)]
+    sim_settings: Option<PathBuf>,
+    /// Refused candidates replayed per trip, to count false refusals.
+    #[arg(long, default_value_t = 2)]
+    refused: usize,
+    /// Also write the tables here (Markdown).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
 struct ExperimentArgs {
     /// The configuration (`experiments/<name>.toml`).
     config: PathBuf,
@@ -331,6 +362,7 @@ fn main() -> ExitCode {
         Command::Execute(args) => execute::execute(&args),
         Command::CompareClustering(args) => commands::compare_clustering(&args),
         Command::Cluster(args) => commands::cluster(&args),
+        Command::GraspAgreement(args) => commands::grasp_agreement(&args),
         Command::Experiment(args) => commands::experiment(&args),
         Command::Merge { logs, output } => commands::merge(&logs, &output),
         Command::Report(args) => commands::report(&args.log, &args.tables, &args.figures),

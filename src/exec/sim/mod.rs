@@ -21,6 +21,7 @@
 //!   observed outlines overlap is undone for one of them (a real segmentation never reports
 //!   interpenetrating objects).
 
+mod rollout;
 mod settings;
 mod world;
 
@@ -35,6 +36,7 @@ use crate::push::Push;
 use crate::random::SeededRng;
 use crate::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
 
+pub use rollout::Rollout;
 pub use settings::{FingerDrive, SimSettings};
 
 /// What [`Sim::close_and_release`] saw once the jaws had closed.
@@ -293,6 +295,7 @@ impl Executor for Sim {
 
     fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
         let s = self.settings.clone();
+
         let mut stage = match self.lower_and_close(grasp) {
             Ok(stage) => stage,
             Err(landing) => {

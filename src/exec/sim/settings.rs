@@ -126,12 +126,17 @@ impl Default for SimSettings {
 impl SimSettings {
     /// The settings with every noise set to zero.
     pub fn noiseless() -> Self {
+        Self::noiseless_from(&Self::default())
+    }
+
+    /// `settings` with every noise set to zero.
+    pub fn noiseless_from(settings: &Self) -> Self {
         Self {
             perception_position: 0.0,
             perception_yaw: 0.0,
             actuation_position: 0.0,
             actuation_yaw: 0.0,
-            ..Self::default()
+            ..settings.clone()
         }
     }
 

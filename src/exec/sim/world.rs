@@ -30,9 +30,10 @@ use crate::scene::{Gripper, ObjectId, Pose as PlanarPose};
 /// object, not beside it.
 const LANDING_NORMAL: f64 = 0.5;
 
-/// A contact point closer than this counts as touching, metres (rapier also reports points a little
-/// apart, within its prediction distance).
-const TOUCHING: f64 = 2e-4;
+/// A contact point counts as touching when the shapes interpenetrate (rapier also reports points a
+/// little apart, within its prediction distance, whose normals join the nearest features and so can
+/// point anywhere).
+const TOUCHING: f64 = 0.0;
 
 /// Collider materials, stored in the colliders' user data.
 const TABLE: u128 = 0;

@@ -1,0 +1,291 @@
+//! What a grasp planner believes a closing carries: outcome models behind one trait, so experiments can
+//! compare them.
+//!
+//! - [`ModelOutcome`] with one sample: the grasp model's own prediction ([`GraspModel`], analytic or
+//!   planar mechanics) on the table as observed.
+//! - [`ModelOutcome`] with several samples (the default, *robust*): the prediction repeated on copies
+//!   of the table and the jaws moved by the perception and actuation noise the run assumes; the
+//!   estimated probability is the share of samples in which every predicted object is carried.
+//! - A physics rollout (`exec::sim::Rollout`, built by the policy): the same samples, each closed and
+//!   lifted in the rapier simulator, as the multi-object grasping work that Push-MOG builds on
+//!   confirmed its candidates in a physics engine.
+//!
+//! The first sample is always the table as observed; if the model does not predict it held, the
+//! candidate is refused at once. Samples are seeded from the jaw pose, so a plan is reproducible.
+
+use nalgebra::{Isometry2, Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::jaws::JawPose;
+use super::model::{Body, GraspModel, Squeeze, squeeze_bodies};
+use crate::error::{Error, Result};
+use crate::geometry::{ConvexPolygon, overlap};
+use crate::random::SeededRng;
+use crate::scene::Scene;
+
+/// The noise a grasp must survive: how far the world may be from what the camera saw, and the
+/// gripper from where it was sent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct Noise {
+    /// Standard deviation of an object's observed position, metres, per axis. Default 0.002, as the
+    /// simulator's perception noise (segmentation of an overhead RGB-D image).
+    pub perception_position: f64,
+    /// Standard deviation of an object's observed yaw, radians. Default 0.035 (2°).
+    pub perception_yaw: f64,
+    /// Standard deviation of where the gripper goes, metres, per axis. Default 0.001.
+    pub actuation_position: f64,
+    /// Standard deviation of the gripper's yaw, radians. Default 0.0175 (1°).
+    pub actuation_yaw: f64,
+    /// Further standard deviation of a pushed object's position where the push leaves it, metres,
+    /// per axis. Default 0.002: pushes in the simulator end a median 1.1 mm and a 90th percentile
+    /// 3.9 mm from their targets (158 pushes of push-mog on ten scenes, with actuation noise).
+    pub push_position: f64,
+    /// Further standard deviation of a pushed object's yaw, radians. Default 0.017 (1°; the same
+    /// pushes turned a 90th percentile 1.1°).
+    pub push_yaw: f64,
+}
+
+impl Default for Noise {
+    fn default() -> Self {
+        Self {
+            perception_position: 0.002,
+            perception_yaw: 0.035,
+            actuation_position: 0.001,
+            actuation_yaw: 0.0175,
+            push_position: 0.002,
+            push_yaw: 0.017,
+        }
+    }
+}
+
+impl Noise {
+    /// Standard deviation of where an open plate ends up relative to an object, metres, per axis:
+    /// perception and actuation noise, and push error for a pushed object.
+    pub fn position_sigma(&self, pushed: bool) -> f64 {
+        let push = if pushed { self.push_position } else { 0.0 };
+        (self.perception_position.powi(2) + self.actuation_position.powi(2) + push.powi(2)).sqrt()
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        for (field, value) in [
+            ("perception_position", self.perception_position),
+            ("perception_yaw", self.perception_yaw),
+            ("actuation_position", self.actuation_position),
+            ("actuation_yaw", self.actuation_yaw),
+            ("push_position", self.push_position),
+            ("push_yaw", self.push_yaw),
+        ] {
+            if !(value.is_finite() && (0.0..=0.05).contains(&value)) {
+                return Err(Error::field(
+                    "multi.noise",
+                    field,
+                    format!("must be between 0 and 0.05 (metres or radians), got {value}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An outcome model's verdict on one candidate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Judgement {
+    /// The prediction on the table as observed (scene indices).
+    pub nominal: Squeeze,
+    /// Samples in which every object of the nominal prediction was carried.
+    pub hits: usize,
+    /// Samples judged (fewer than asked when judging stopped early).
+    pub judged: usize,
+    /// Samples asked for.
+    pub samples: usize,
+}
+
+impl Judgement {
+    /// The estimated probability that every predicted object is carried (0 when the nominal
+    /// prediction is not held, or judging stopped early).
+    pub fn probability(&self) -> f64 {
+        if self.judged < self.samples {
+            0.0
+        } else {
+            self.hits as f64 / self.samples.max(1) as f64
+        }
+    }
+}
+
+/// Something that judges candidate grasps.
+pub trait GraspOutcome: Send + Sync + std::fmt::Debug {
+    /// A short name for logs (`analytic`, `planar`, `robust`, `rollout`).
+    fn name(&self) -> &'static str;
+
+    /// Judges `jaws` on `scene`, where the objects `pushed` (scene indices) stand where pushes are
+    /// predicted to leave them; stops once more than `max_failures` samples have failed (the caller
+    /// can no longer use the candidate then).
+    fn judge(
+        &self,
+        scene: &Scene,
+        jaws: &JawPose,
+        pushed: &[usize],
+        max_failures: usize,
+    ) -> Judgement;
+}
+
+/// The grasp model, on the observed table and on noisy copies of it.
+#[derive(Clone, Debug)]
+pub struct ModelOutcome {
+    /// The model.
+    pub model: GraspModel,
+    /// Samples per candidate, the observed table first (1: the model's prediction alone).
+    pub samples: usize,
+    /// The noise of the other samples.
+    pub noise: Noise,
+}
+
+impl GraspOutcome for ModelOutcome {
+    fn name(&self) -> &'static str {
+        match (self.samples, self.model.mechanics) {
+            (0 | 1, super::model::Mechanics::Analytic) => "analytic",
+            (0 | 1, super::model::Mechanics::Planar) => "planar",
+            _ => "robust",
+        }
+    }
+
+    fn judge(
+        &self,
+        scene: &Scene,
+        jaws: &JawPose,
+        pushed: &[usize],
+        max_failures: usize,
+    ) -> Judgement {
+        let samples = self.samples.max(1);
+        let bodies = scene_bodies(scene, &self.model);
+        let nominal = squeeze_bodies(&bodies, scene.gripper(), jaws, &self.model);
+        let Squeeze::Held { objects, .. } = &nominal else {
+            return Judgement {
+                nominal,
+                hits: 0,
+                judged: samples,
+                samples,
+            };
+        };
+        let mut expected = objects.clone();
+        expected.sort_unstable();
+        let (mut hits, mut judged) = (1, 1);
+        for k in 1..samples {
+            if judged - hits > max_failures {
+                break;
+            }
+            judged += 1;
+            let (outlines, moved) = noisy_copy(scene, jaws, &self.noise, pushed, k);
+            let local: Vec<Body<'_>> = outlines
+                .iter()
+                .zip(&bodies)
+                .map(|(outline, body)| Body {
+                    outline,
+                    mass: body.mass,
+                })
+                .collect();
+            if let Squeeze::Held { mut objects, .. } =
+                squeeze_bodies(&local, scene.gripper(), &moved, &self.model)
+            {
+                objects.sort_unstable();
+                if objects == expected {
+                    hits += 1;
+                }
+            }
+        }
+        Judgement {
+            nominal,
+            hits,
+            judged,
+            samples,
+        }
+    }
+}
+
+/// The scene's objects as the model sees them.
+pub(super) fn scene_bodies<'a>(scene: &'a Scene, model: &GraspModel) -> Vec<Body<'a>> {
+    (0..scene.len())
+        .map(|i| Body {
+            outline: scene.world_polygon(i),
+            mass: model.mass_of(&scene.objects()[i]),
+        })
+        .collect()
+}
+
+/// A seed from a jaw pose and a sample number (SplitMix64 over the pose's bits).
+pub fn sample_seed(jaws: &JawPose, sample: usize) -> u64 {
+    let mut state = jaws.center.x.to_bits()
+        ^ jaws.center.y.to_bits().rotate_left(21)
+        ^ jaws.angle.to_bits().rotate_left(42)
+        ^ jaws.opening.to_bits().rotate_left(7)
+        ^ (sample as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    state = (state ^ (state >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    state = (state ^ (state >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    state ^ (state >> 31)
+}
+
+/// Sample `sample` of the noisy world around `jaws`: every object within reach moved by the
+/// perception noise, and the objects `pushed` (scene indices) by the push error too (a draw that would overlap another object is drawn again, up to five times, and
+/// the object stays put if none fits), and the jaws moved by the actuation noise. Objects out of
+/// reach keep their outlines.
+pub fn noisy_copy(
+    scene: &Scene,
+    jaws: &JawPose,
+    noise: &Noise,
+    pushed: &[usize],
+    sample: usize,
+) -> (Vec<ConvexPolygon>, JawPose) {
+    let mut rng = SeededRng::new(sample_seed(jaws, sample));
+    let reach = jaws.opening / 2.0 + scene.gripper().plate_length + 0.03;
+    let mut outlines: Vec<ConvexPolygon> = (0..scene.len())
+        .map(|i| scene.world_polygon(i).clone())
+        .collect();
+    let near: Vec<usize> = (0..scene.len())
+        .filter(|&i| {
+            let centroid = scene.centroid(i);
+            nalgebra::distance(&centroid, &jaws.center)
+                <= reach + scene.world_polygon(i).radius_about(&centroid)
+        })
+        .collect();
+    for &i in &near {
+        let centroid = scene.centroid(i);
+        let (position, yaw) = if pushed.contains(&i) {
+            (
+                noise.perception_position.hypot(noise.push_position),
+                noise.perception_yaw.hypot(noise.push_yaw),
+            )
+        } else {
+            (noise.perception_position, noise.perception_yaw)
+        };
+        for _ in 0..5 {
+            let shift = Vector2::new(position * rng.normal(), position * rng.normal());
+            let turn = yaw * rng.normal();
+            let about = Isometry2::translation(centroid.x, centroid.y)
+                * Isometry2::new(shift, turn)
+                * Isometry2::translation(-centroid.x, -centroid.y);
+            let candidate = scene.world_polygon(i).transformed(&about);
+            let clear = near
+                .iter()
+                .filter(|&&j| j != i)
+                .all(|&j| !overlap(&outlines[j], &candidate, crate::scene::OVERLAP_TOLERANCE));
+            if clear {
+                outlines[i] = candidate;
+                break;
+            }
+        }
+    }
+    let moved = JawPose {
+        center: Point2::new(
+            jaws.center.x + noise.actuation_position * rng.normal(),
+            jaws.center.y + noise.actuation_position * rng.normal(),
+        ),
+        angle: jaws.angle + noise.actuation_yaw * rng.normal(),
+        opening: jaws.opening,
+    };
+    (outlines, moved)
+}
