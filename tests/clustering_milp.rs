@@ -3,8 +3,8 @@
 
 use nalgebra::Point2;
 use pushmog::cluster::{
-    ClusterObjective, Clusterer, CostModel, Milp, MilpSettings, centroid_diameter,
-    compact_candidates, compare_clustering, fits_jaws,
+    ClusterObjective, Clusterer, CostModel, Hierarchical, Milp, MilpSettings, admits_row,
+    centroid_diameter, compact_candidates, compare_clustering, fits_jaws,
 };
 use pushmog::geometry::{ConvexPolygon, separating_line};
 use pushmog::json::read_scene;
@@ -35,8 +35,10 @@ fn partitions(n: usize) -> Vec<Vec<usize>> {
     out
 }
 
-/// The best objective over all partitions that fit the jaws and are pairwise separable, found by
-/// enumeration with no use of the MILP's candidates or rows.
+/// The best objective over all partitions that are pairwise separable and whose clusters fit the
+/// jaws and stand in one row within the gap less the row margin (or are clusters of the heuristic,
+/// which the MILP keeps as candidates), found by enumeration with no use of the MILP's candidates or
+/// rows.
 fn brute_force(scene: &Scene, objective: ClusterObjective, settings: &MilpSettings) -> f64 {
     brute_force_with(scene, objective, settings, true)
 }
@@ -48,10 +50,30 @@ fn brute_force_with(
     require_separable: bool,
 ) -> f64 {
     let n = scene.len();
-    // ε of the fewest-clusters objective depends on the widest capacity-feasible cluster.
-    let widest = compact_candidates(scene, n, f64::INFINITY)
+    let limit = scene.gripper().usable_gap() - settings.row_margin;
+    let heuristic = Hierarchical::new(settings.heuristic.clone())
+        .unwrap()
+        .cluster(scene)
+        .unwrap()
+        .value;
+    let heuristic: Vec<Vec<usize>> = heuristic
+        .clusters
         .iter()
-        .map(|c| centroid_diameter(scene, c))
+        .map(|c| {
+            let mut members: Vec<usize> = c.iter().map(|id| scene.index_of(*id).unwrap()).collect();
+            members.sort_unstable();
+            members
+        })
+        .collect();
+    let allowed = |c: &Vec<usize>| {
+        (fits_jaws(scene, c) && admits_row(scene, c, limit, 0.001)) || heuristic.contains(c)
+    };
+    // ε of the fewest-clusters objective depends on the widest allowed cluster.
+    let widest = compact_candidates(scene, n, f64::INFINITY)
+        .into_iter()
+        .filter(|c| allowed(c))
+        .chain(heuristic.iter().cloned())
+        .map(|c| centroid_diameter(scene, &c))
         .fold(0.0, f64::max);
     let cost = CostModel::new(
         scene,
@@ -66,7 +88,7 @@ fn brute_force_with(
         let clusters: Vec<Vec<usize>> = (0..blocks)
             .map(|b| (0..n).filter(|&i| labels[i] == b).collect())
             .collect();
-        if !clusters.iter().all(|c| fits_jaws(scene, c)) {
+        if !clusters.iter().all(&allowed) {
             continue;
         }
         let points: Vec<Vec<Point2<f64>>> = clusters
@@ -311,6 +333,8 @@ fn saved_instance_fewest_clusters_100_seed_2_is_proven_optimal() {
     .cluster(&scene)
     .unwrap();
     assert_eq!(outcome.status, Status::Optimal);
-    assert_eq!(outcome.value.len(), 51);
+    // The heuristic's clusters are candidates, so the fewest clusters are never more than its.
+    let heuristic = Hierarchical::default().cluster(&scene).unwrap().value;
+    assert!(outcome.value.len() <= heuristic.len());
     assert!(verify_clustering(&scene, &outcome.value).is_empty());
 }

@@ -24,6 +24,7 @@ use good_lp::solvers::{
 use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variable, variable};
 use serde::{Deserialize, Serialize};
 
+use super::admits_row;
 use super::candidates::{clashing_pairs, compact_candidates};
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
@@ -44,6 +45,9 @@ pub enum MilpBackend {
     Highs,
 }
 
+/// Gap between neighbours in a candidate's row, metres (the SOCP push planner's default `gap`).
+const ROW_GAP: f64 = 0.001;
+
 /// Settings of [`Milp`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
@@ -58,6 +62,11 @@ pub struct MilpSettings {
     pub max_diameter: f64,
     /// Pushes estimated shorter than this are not made, metres. Default 0.003 (as the push planner).
     pub min_push: f64,
+    /// Room a candidate cluster's row must leave in the usable jaw gap, metres: a cluster of two or
+    /// more is a candidate only if its members can stand in a row (1 mm apart) of at most the gap
+    /// less this, along some axis at their current yaws. Default 0.010, as the SOCP push planner's
+    /// `margin` (keep them equal).
+    pub row_margin: f64,
     /// Wall-clock limit of one solve, seconds. Default 10.
     pub time_limit: f64,
     /// Relative gap at which the solver may stop. Default 0 (prove optimality).
@@ -81,6 +90,7 @@ impl Default for MilpSettings {
             max_cluster_size: 4,
             max_diameter: 0.10,
             min_push: 0.003,
+            row_margin: 0.010,
             time_limit: 10.0,
             mip_gap: 0.0,
             backend: MilpBackend::Microlp,
@@ -107,6 +117,7 @@ impl MilpSettings {
         for (field, value) in [
             ("max_diameter", self.max_diameter),
             ("min_push", self.min_push),
+            ("row_margin", self.row_margin),
             ("mip_gap", self.mip_gap),
         ] {
             if value.is_nan() || value < 0.0 {
@@ -417,6 +428,9 @@ impl Clusterer for Milp {
             .collect::<Result<_>>()?;
         let mut candidates =
             compact_candidates(scene, settings.max_cluster_size, settings.max_diameter);
+        // A cluster is worth pushing only if its members can stand in one row the jaws take.
+        let limit = scene.gripper().usable_gap() - settings.row_margin;
+        candidates.retain(|c| admits_row(scene, c, limit, ROW_GAP));
         let mut known: HashSet<Vec<usize>> = candidates.iter().cloned().collect();
         let mut warm = Vec::new();
         for cluster in &heuristic_clusters {

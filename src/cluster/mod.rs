@@ -72,6 +72,29 @@ pub fn fits_jaws(scene: &Scene, members: &[usize]) -> bool {
     members.len() <= 1 || summed_diameter(scene, members) <= scene.gripper().usable_gap()
 }
 
+/// Whether a group of objects (scene indices) can stand in one row of at most `limit` metres along
+/// some closing axis, neighbours `gap` apart, at their current yaws. The summed width along an axis
+/// is concave between the members' edge normals, so its minimum is at one of them: those are the
+/// axes tried, and the answer is exact.
+pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> bool {
+    if members.len() <= 1 {
+        return true;
+    }
+    let spacing = gap * (members.len() - 1) as f64;
+    members.iter().any(|&i| {
+        let outline = scene.world_polygon(i);
+        outline.edges().any(|(a, b)| {
+            let edge = b - a;
+            let axis = nalgebra::Vector2::new(edge.y, -edge.x).normalize();
+            let widths: f64 = members
+                .iter()
+                .map(|&m| scene.world_polygon(m).width(&axis))
+                .sum();
+            widths + spacing <= limit
+        })
+    })
+}
+
 /// A way to cluster a scene.
 pub trait Clusterer {
     /// A short name for logs and tables (`hierarchical`, `milp`).

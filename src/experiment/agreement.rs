@@ -284,3 +284,78 @@ pub const OFFSET_BINS: [(f64, f64); 5] = [
     (0.015, 0.020),
     (0.020, f64::INFINITY),
 ];
+
+/// Hold rate of the planned multi-object grasps against the furthest caught centroid's distance from
+/// the plates' centre line, without and with noise, as an SVG figure.
+///
+/// # Errors
+/// A drawing failure.
+pub fn agreement_svg(replays: &[Replay], title: &str) -> Result<String> {
+    use plotters::prelude::*;
+    let plot = |e: &dyn std::fmt::Display| crate::Error::field("figure", "plot", e.to_string());
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 440)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0f64..25.0, 0.0f64..105.0)
+            .map_err(|e| plot(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("furthest caught centroid from the jaw centre line (mm; bins of 5 mm, the last open)")
+            .y_desc("multi-object grasps held (%)")
+            .draw()
+            .map_err(|e| plot(&e))?;
+        for (noisy, colour, label) in [
+            (false, RGBColor(0x4e, 0x79, 0xa7), "no noise"),
+            (true, RGBColor(0xe1, 0x57, 0x59), "with noise"),
+        ] {
+            let points: Vec<(f64, f64)> = OFFSET_BINS
+                .iter()
+                .filter_map(|&(lo, hi)| {
+                    let group: Vec<&Replay> = replays
+                        .iter()
+                        .filter(|r| {
+                            !r.refused
+                                && r.noisy == noisy
+                                && r.predicted >= 2
+                                && r.offset >= lo
+                                && r.offset < hi
+                        })
+                        .collect();
+                    (!group.is_empty()).then(|| {
+                        let held = group.iter().filter(|r| r.held()).count();
+                        (lo * 1e3 + 2.5, 100.0 * held as f64 / group.len() as f64)
+                    })
+                })
+                .collect();
+            chart
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
+                .map_err(|e| plot(&e))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            chart
+                .draw_series(
+                    points
+                        .into_iter()
+                        .map(|p| Circle::new(p, 4, colour.filled())),
+                )
+                .map_err(|e| plot(&e))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| plot(&e))?;
+        root.present().map_err(|e| plot(&e))?;
+    }
+    Ok(svg)
+}

@@ -12,6 +12,7 @@
 //!             u·p_(j+1) − u·p_(j) ≥ h_(j)(u) + h_(j+1)(−u) + gap         (consecutive, no overlap)
 //!             u·p_(k) + h_(k)(u) − u·p_(1) + h_(1)(−u) ≤ g − margin      (the row fits the jaws)
 //!             v·p_i − h_i(−v) ≤ c − s,   v·p_i + h_i(v) ≥ c + s           (each straddles the plates' centre line)
+//!             |v·p_i − c| ≤ τ                                            (centroids near that line)
 //!             n_iq·p_i ≥ β_iq                                            (clear of outside object q)
 //!             workspace bounds on p_i,  p_i = p_i⁰ for objects held fixed
 //! ```
@@ -55,6 +56,8 @@ pub(super) struct RowProblem<'a> {
     pub gap: f64,
     /// How far every object reaches past the plates' centre line on both sides, metres.
     pub straddle: f64,
+    /// How far a centroid may lie from the plates' centre line, metres.
+    pub centring: f64,
 }
 
 /// One solve's answer.
@@ -108,8 +111,8 @@ pub(super) fn lower_bound(problem: &RowProblem<'_>, axis: &Vector2<f64>) -> Opti
         let at = start.coords.dot(axis);
         low = low.min(at - outline.support(&-axis));
         high = high.max(at + outline.support(axis));
-        let lo = problem.straddle - outline.support(&across);
-        let hi = outline.support(&-across) - problem.straddle;
+        let lo = (problem.straddle - outline.support(&across)).max(-problem.centring);
+        let hi = (outline.support(&-across) - problem.straddle).min(problem.centring);
         if lo > hi {
             return None;
         }
@@ -214,6 +217,13 @@ pub(super) fn solve_row(
         let mut above = along(i, &across, -1.0).to_vec();
         above.push((c, 1.0));
         inequalities.push(&above, support(i, &across) - problem.straddle);
+        // |v·p_i − c| ≤ τ: the centroid near the plates' centre line.
+        let mut near = along(i, &across, 1.0).to_vec();
+        near.push((c, -1.0));
+        inequalities.push(&near, problem.centring);
+        let mut near = along(i, &across, -1.0).to_vec();
+        near.push((c, 1.0));
+        inequalities.push(&near, problem.centring);
         // Workspace: min + h(−e) ≤ p ≤ max − h(e) on both axes, 1 µm inside so that the solver's
         // tolerance never puts a vertex outside.
         for (dimension, unit) in [(0, Vector2::x()), (1, Vector2::y())] {

@@ -53,13 +53,18 @@ pub struct SocpSettings {
     /// Default 6 (every order of three objects).
     pub max_orders: usize,
 
-    /// Room left between the row and the usable jaw gap, metres. Default 0.005.
+    /// Room left between the row and the usable jaw gap, metres. Default 0.010: on each side, the
+    /// 4.5 mm the grasp planner keeps between an open plate and a pushed object, rounded up.
     pub margin: f64,
     /// Gap kept between neighbours in the row, metres. Default 0.001.
     pub gap: f64,
     /// How far every object must reach past the plates' centre line on each side, metres. Default
     /// 0.003: every object is caught by the plates and touches its neighbours when squeezed.
     pub straddle: f64,
+    /// How far a target centroid may lie from the plates' centre line, metres. Default 0.004: in
+    /// the simulator, rows whose centroids lie near that line are held far more often than rows
+    /// whose centroids lie 10 mm or more off it (`pushmog grasp-agreement`).
+    pub centring: f64,
     /// Gap kept to objects outside the cluster (or the current gap, if smaller), metres. Default 0.002.
     pub clearance: f64,
     /// Outside objects further than this from every member are ignored, metres. Default 0.15.
@@ -81,9 +86,10 @@ impl Default for SocpSettings {
         Self {
             axes: 12,
             max_orders: 6,
-            margin: 0.005,
+            margin: 0.010,
             gap: 0.001,
             straddle: 0.003,
+            centring: 0.004,
             clearance: 0.002,
             neighbourhood: 0.15,
             min_push: 0.003,
@@ -107,6 +113,7 @@ impl SocpSettings {
             ("margin", self.margin),
             ("gap", self.gap),
             ("straddle", self.straddle),
+            ("centring", self.centring),
             ("clearance", self.clearance),
             ("neighbourhood", self.neighbourhood),
             ("min_push", self.min_push),
@@ -483,6 +490,7 @@ impl PushPlanner for Socp {
             row_limit: gripper.usable_gap() - self.settings.margin,
             gap: self.settings.gap,
             straddle: self.settings.straddle,
+            centring: self.settings.centring,
         };
         let free = vec![false; members.len()];
         let solves = Cell::new(0usize);

@@ -9,7 +9,9 @@ use pushmog::cluster::{
 };
 use pushmog::error::{Error, Result};
 use pushmog::exec::{Executor, Ideal, Sim, SimSettings};
-use pushmog::experiment::agreement::{AgreementSettings, agreement_markdown, replay_grasps};
+use pushmog::experiment::agreement::{
+    AgreementSettings, agreement_markdown, agreement_svg, replay_grasps,
+};
 use pushmog::experiment::{
     ExperimentConfig, Log, RunnerOptions, merge_logs, read_log, run_experiment, write_log,
     write_report,
@@ -188,6 +190,13 @@ pub fn grasp_agreement(args: &AgreementArgs) -> Result<()> {
     let text = agreement_markdown(&replays, &title);
     if let Some(path) = &args.output {
         json::write_text(path, &text)?;
+    }
+    if let Some(path) = &args.figure {
+        let caption = format!(
+            "Multi-object grasps held in the simulator ({})",
+            args.policy
+        );
+        json::write_text(path, &agreement_svg(&replays, &caption)?)?;
     }
     print!("{text}");
     Ok(())

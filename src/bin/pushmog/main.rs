@@ -276,6 +276,9 @@ struct AgreementArgs {
     /// Also write the tables here (Markdown).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Also draw hold rate against centre-line offset here (SVG).
+    #[arg(long)]
+    figure: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
