@@ -18,6 +18,17 @@ use crate::scene::Scene;
 
 /// Compact, capacity-feasible clusters (scene indices, ascending).
 pub fn compact_candidates(scene: &Scene, max_size: usize, max_diameter: f64) -> Vec<Vec<usize>> {
+    compact_candidates_where(scene, max_size, max_diameter, &|_| true)
+}
+
+/// Compact, capacity-feasible clusters that `accept` also accepts. `accept` must be monotone (a set
+/// it refuses has no accepted superset), so refused sets are not grown.
+pub fn compact_candidates_where(
+    scene: &Scene,
+    max_size: usize,
+    max_diameter: f64,
+    accept: &dyn Fn(&[usize]) -> bool,
+) -> Vec<Vec<usize>> {
     let n = scene.len();
     let centroids: Vec<Point2<f64>> = (0..n).map(|i| scene.centroid(i)).collect();
     let near: Vec<Vec<bool>> = (0..n)
@@ -37,7 +48,7 @@ pub fn compact_candidates(scene: &Scene, max_size: usize, max_diameter: f64) -> 
                 if set.iter().all(|&m| near[m][j]) {
                     let mut grown = set.clone();
                     grown.push(j);
-                    if fits_jaws(scene, &grown) {
+                    if fits_jaws(scene, &grown) && accept(&grown) {
                         stack.push(grown);
                     }
                 }

@@ -1,6 +1,6 @@
 //! Optimal clustering as a set-partitioning MILP (`formulations/clustering.md`), solved with good_lp.
 //!
-//! Variables `x_S ∈ {0, 1}` over the candidate clusters `K` ([`compact_candidates`] plus the
+//! Variables `x_S ∈ {0, 1}` over the candidate clusters `K` ([`super::compact_candidates`] plus the
 //! clusters of the hierarchical heuristic, so its answer is always a feasible point):
 //!
 //! ```text
@@ -25,7 +25,7 @@ use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variabl
 use serde::{Deserialize, Serialize};
 
 use super::admits_row;
-use super::candidates::{clashing_pairs, compact_candidates};
+use super::candidates::{clashing_pairs, compact_candidates_where};
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::separability::separability_conflicts;
@@ -54,8 +54,9 @@ const ROW_GAP: f64 = 0.001;
 pub struct MilpSettings {
     /// What to minimise. Default `time`.
     pub objective: ClusterObjective,
-    /// Largest number of objects in a candidate cluster. Default 4 (the 75 mm gap holds at most three
-    /// objects of the built-in set, so 4 does not bind there).
+    /// Largest number of objects in a candidate cluster. Default 12: capacity decides (the summed
+    /// minimum grasp diameters fit the gap and the members stand in one row within it), and this
+    /// only bounds the enumeration (ten 7 mm bars fill the 75 mm gap).
     pub max_cluster_size: usize,
     /// Largest distance between two centroids of a candidate cluster (push reach), metres. Default
     /// 0.10, the hierarchical clustering's default cut height.
@@ -87,7 +88,7 @@ impl Default for MilpSettings {
     fn default() -> Self {
         Self {
             objective: ClusterObjective::Time,
-            max_cluster_size: 4,
+            max_cluster_size: 12,
             max_diameter: 0.10,
             min_push: 0.003,
             row_margin: 0.010,
@@ -426,11 +427,14 @@ impl Clusterer for Milp {
                 Ok(members)
             })
             .collect::<Result<_>>()?;
-        let mut candidates =
-            compact_candidates(scene, settings.max_cluster_size, settings.max_diameter);
         // A cluster is worth pushing only if its members can stand in one row the jaws take.
         let limit = scene.gripper().usable_gap() - settings.row_margin;
-        candidates.retain(|c| admits_row(scene, c, limit, ROW_GAP));
+        let mut candidates = compact_candidates_where(
+            scene,
+            settings.max_cluster_size,
+            settings.max_diameter,
+            &|c| admits_row(scene, c, limit, ROW_GAP),
+        );
         let mut known: HashSet<Vec<usize>> = candidates.iter().cloned().collect();
         let mut warm = Vec::new();
         for cluster in &heuristic_clusters {

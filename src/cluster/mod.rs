@@ -25,7 +25,7 @@ use crate::error::Result;
 use crate::plan::Outcome;
 use crate::scene::{ObjectId, Scene};
 
-pub use candidates::{clashing_pairs, compact_candidates};
+pub use candidates::{clashing_pairs, compact_candidates, compact_candidates_where};
 pub use compare::{SceneComparison, compare_clustering, comparison_markdown};
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
 pub use milp::{Milp, MilpBackend, MilpSettings};
@@ -75,7 +75,7 @@ pub fn fits_jaws(scene: &Scene, members: &[usize]) -> bool {
 /// Whether a group of objects (scene indices) can stand in one row of at most `limit` metres along
 /// some closing axis, neighbours `gap` apart, at their current yaws. The summed width along an axis
 /// is concave between the members' edge normals, so its minimum is at one of them: those are the
-/// axes tried, and the answer is exact.
+/// axes tried, and the answer is exact. It is monotone: adding an object never makes a row fit.
 pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> bool {
     if members.len() <= 1 {
         return true;

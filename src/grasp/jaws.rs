@@ -22,6 +22,17 @@ pub struct JawPose {
 }
 
 impl JawPose {
+    /// Whether `other` puts the jaws in practically the same place: centres within 3 mm, closing
+    /// axes within 5° (either way round) and openings within 3 mm. A grasp that failed there would
+    /// most likely fail again.
+    pub fn same_place(&self, other: &JawPose) -> bool {
+        let turn = (self.angle - other.angle).rem_euclid(std::f64::consts::PI);
+        let turn = turn.min(std::f64::consts::PI - turn);
+        nalgebra::distance(&self.center, &other.center) < 0.003
+            && turn < 5f64.to_radians()
+            && (self.opening - other.opening).abs() < 0.003
+    }
+
     /// The unit closing axis.
     pub fn axis(&self) -> Vector2<f64> {
         Vector2::new(self.angle.cos(), self.angle.sin())

@@ -344,14 +344,15 @@ impl GraspPlanner for MultiObject {
         targets: &[ObjectId],
         hints: &[JawPose],
     ) -> Result<Outcome<Option<Grasp>>> {
-        self.plan_after_pushes(scene, targets, hints, &[])
+        self.plan_after_pushes(scene, targets, hints, &[], &[])
     }
 }
 
 impl MultiObject {
     /// As [`GraspPlanner::plan_with_hints`] on a table predicted after pushes: the objects `pushed`
     /// stand where the pushes are meant to leave them, so the plates keep further from them and the
-    /// samples move them by the push error too.
+    /// samples move them by the push error too. Jaws in the same place as any of `avoid` (grasps
+    /// that failed before) are not proposed.
     ///
     /// # Errors
     /// An id that is not in the scene.
@@ -361,6 +362,7 @@ impl MultiObject {
         targets: &[ObjectId],
         hints: &[JawPose],
         pushed: &[ObjectId],
+        avoid: &[JawPose],
     ) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
@@ -375,6 +377,10 @@ impl MultiObject {
             self.candidates(scene, &indices, hints)
         };
         for jaws in &candidates {
+            if avoid.iter().any(|a| a.same_place(jaws)) {
+                *refusals.entry("failed before").or_default() += 1;
+                continue;
+            }
             let caught = match row_of(&bodies, scene.gripper(), jaws, &settings.model) {
                 Ok(caught) => caught,
                 Err(refusal) => {

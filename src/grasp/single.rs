@@ -84,6 +84,7 @@ impl SingleObject {
         &self,
         scene: &Scene,
         index: usize,
+        avoid: &[JawPose],
         evaluated: &mut usize,
     ) -> std::result::Result<Grasp, String> {
         let gripper = scene.gripper();
@@ -135,6 +136,14 @@ impl SingleObject {
                 }
             }
         }
+        // Jaws where a grasp already failed are not tried again.
+        candidates.retain(|(_, _, jaws)| {
+            let repeats = avoid.iter().any(|a| a.same_place(jaws));
+            if repeats {
+                last_reason = format!("the grasps of object {} failed before", object.id);
+            }
+            !repeats
+        });
         // Most clearance first, then the narrowest; the first the model holds wins.
         candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.total_cmp(&b.1)));
         for (margin, _, jaws) in candidates {
@@ -160,13 +169,29 @@ impl GraspPlanner for SingleObject {
     }
 
     fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
+        self.plan_avoiding(scene, targets, &[])
+    }
+}
+
+impl SingleObject {
+    /// As [`GraspPlanner::plan`], never proposing jaws in the same place as any of `avoid` (grasps
+    /// that failed before).
+    ///
+    /// # Errors
+    /// An id that is not in the scene.
+    pub fn plan_avoiding(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        avoid: &[JawPose],
+    ) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
         let mut evaluated = 0;
         let mut reasons = Vec::new();
         let mut found = None;
         for index in indices {
-            match self.grasp_object(scene, index, &mut evaluated) {
+            match self.grasp_object(scene, index, avoid, &mut evaluated) {
                 Ok(grasp) => {
                     found = Some(grasp);
                     break;

@@ -360,6 +360,8 @@ impl Policy {
         let mut trips: Vec<Trip> = Vec::new();
         let mut failed_attempts: Vec<String> = Vec::new();
         let mut in_a_row = 0;
+        // Where grasps carried nothing: never tried again in the same place.
+        let mut failed_jaws: Vec<JawPose> = Vec::new();
         let status = loop {
             let observed = executor.observe()?;
             let lost = executor.lost();
@@ -404,8 +406,14 @@ impl Policy {
             }
             let started = Instant::now();
             let draft = match self.kind {
-                PolicyKind::Sog => self.draft_single(&observed, &mut rng)?,
-                kind => self.draft_clustered(&observed, &mut rng, kind.pushes(), &mut timing)?,
+                PolicyKind::Sog => self.draft_single(&observed, &mut rng, &failed_jaws)?,
+                kind => self.draft_clustered(
+                    &observed,
+                    &mut rng,
+                    kind.pushes(),
+                    &failed_jaws,
+                    &mut timing,
+                )?,
             };
             timing.planning.push(started.elapsed().as_secs_f64());
             let draft = match draft {
@@ -436,6 +444,9 @@ impl Policy {
                 Vec::new()
             };
             in_a_row = if carried.is_empty() { in_a_row + 1 } else { 0 };
+            if carried.is_empty() {
+                failed_jaws.push(draft.grasp.jaws);
+            }
             trips.push(Trip {
                 scene: observed.to_spec(),
                 clustering: draft.clustering,
@@ -472,32 +483,51 @@ impl Policy {
         &self,
         observed: &Scene,
         rng: &mut SeededRng,
+        avoid: &[JawPose],
     ) -> Result<std::result::Result<Draft, String>> {
         let graspable: Vec<usize> = (0..observed.len())
             .filter(|&i| observed.is_graspable(i))
             .collect();
-        let target = observed.objects()[graspable[rng.index(graspable.len())]].id;
-        let outcome = self.single.plan(observed, &[target])?;
-        Ok(match outcome.value {
-            Some(grasp) => Ok(Draft {
-                clustering: Clustering::default(),
-                cluster: None,
-                pushes: Vec::new(),
-                skipped: Vec::new(),
-                grasp,
-            }),
-            None => Err(format!(
-                "object {target}: {}",
-                failure_reason(&outcome.status)
-            )),
-        })
+        // A random object first, then the others in turn if its grasps all failed before.
+        let first = rng.index(graspable.len());
+        let order = graspable[first..].iter().chain(&graspable[..first]);
+        let mut reason = String::new();
+        for &index in order {
+            let target = observed.objects()[index].id;
+            let outcome = self.single.plan_avoiding(observed, &[target], avoid)?;
+            match outcome.value {
+                Some(grasp) => {
+                    return Ok(Ok(Draft {
+                        clustering: Clustering::default(),
+                        cluster: None,
+                        pushes: Vec::new(),
+                        skipped: Vec::new(),
+                        grasp,
+                    }));
+                }
+                None if reason.is_empty() => {
+                    reason = format!("object {target}: {}", failure_reason(&outcome.status));
+                }
+                None => {}
+            }
+            if avoid.is_empty() {
+                break;
+            }
+        }
+        Ok(Err(reason))
     }
 
+    /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted
+    /// after the pushes offers a multi-object grasp, and every pushed object that grasp does not
+    /// take could still be taken by itself there (no object is stranded); otherwise nothing is pushed
+    /// and the cluster is grasped as it lies. Jaws where a grasp failed before are never proposed
+    /// again.
     fn draft_clustered(
         &self,
         observed: &Scene,
         rng: &mut SeededRng,
         with_pushes: bool,
+        avoid: &[JawPose],
         timing: &mut RunTiming,
     ) -> Result<std::result::Result<Draft, String>> {
         let started = Instant::now();
@@ -513,44 +543,72 @@ impl Policy {
             .collect();
         let chosen = candidates[rng.index(candidates.len())];
         let members = clustering.clusters[chosen].clone();
-        let (pushes, skipped, predicted, hints) = if with_pushes && members.len() > 1 {
-            let plan = self.plan_pushes(observed, &members)?;
-            let predicted = predict(observed, &plan.pushes)?;
-            let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
-            (plan.pushes, plan.skipped, predicted, hints)
-        } else {
-            (Vec::new(), Vec::new(), observed.clone(), Vec::new())
+        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp| Draft {
+            clustering: clustering.clone(),
+            cluster: Some(chosen),
+            pushes,
+            skipped,
+            grasp,
         };
-        let pushed: Vec<ObjectId> = pushes.iter().map(|p| p.object).collect();
-        let mut outcome = self
-            .multi
-            .plan_after_pushes(&predicted, &members, &hints, &pushed)?;
-        // One object is taken by the single-object planner (jaws opened just wider than the object,
-        // flush on an edge), not by jaws opened fully around it.
-        if outcome.value.as_ref().is_none_or(|g| g.objects.len() < 2) {
-            let targets: Vec<ObjectId> = match &outcome.value {
-                Some(grasp) => grasp.objects.clone(),
-                None => members.clone(),
-            };
-            let single = self.single.plan(&predicted, &targets)?;
-            if single.value.is_some() {
-                outcome = single;
+        let mut skipped = Vec::new();
+        if with_pushes && members.len() > 1 {
+            let plan = self.plan_pushes(observed, &members)?;
+            skipped = plan.skipped;
+            if !plan.pushes.is_empty() {
+                let predicted = predict(observed, &plan.pushes)?;
+                let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
+                let pushed: Vec<ObjectId> = plan.pushes.iter().map(|p| p.object).collect();
+                let outcome = self
+                    .multi
+                    .plan_after_pushes(&predicted, &members, &hints, &pushed, avoid)?;
+                if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
+                    let left: Vec<ObjectId> = pushed
+                        .iter()
+                        .copied()
+                        .filter(|id| !grasp.objects.contains(id))
+                        .collect();
+                    if self.each_has_a_fallback(&predicted, &left)? {
+                        return Ok(Ok(draft(plan.pushes, skipped, grasp)));
+                    }
+                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
+                        object,
+                        reason: SkipReason::DeadEnd,
+                    }));
+                } else {
+                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
+                        object,
+                        reason: SkipReason::NoGraspAfter,
+                    }));
+                }
             }
         }
-        Ok(match outcome.value {
-            Some(grasp) => Ok(Draft {
-                clustering,
-                cluster: Some(chosen),
-                pushes,
-                skipped,
-                grasp,
-            }),
+        // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
+        // opened just wider than the object, flush on an edge, not fully around it).
+        let outcome = self
+            .multi
+            .plan_after_pushes(observed, &members, &[], &[], avoid)?;
+        if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
+            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
+        }
+        let single = self.single.plan_avoiding(observed, &members, avoid)?;
+        Ok(match single.value {
+            Some(grasp) => Ok(draft(Vec::new(), skipped, grasp)),
             None => Err(format!(
                 "cluster {:?}: {}",
                 members.iter().map(|id| id.0).collect::<Vec<_>>(),
-                failure_reason(&outcome.status)
+                failure_reason(&single.status)
             )),
         })
+    }
+
+    /// Whether every pushed object could still be grasped by itself on the predicted table.
+    fn each_has_a_fallback(&self, predicted: &Scene, pushed: &[ObjectId]) -> Result<bool> {
+        for &object in pushed {
+            if self.single.plan(predicted, &[object])?.value.is_none() {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 }
 

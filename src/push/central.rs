@@ -189,6 +189,7 @@ impl TowardCentral {
             world,
             ids,
             index,
+            scene.objects()[index].height,
             &direction,
             distance,
         )?;

@@ -32,6 +32,10 @@ pub struct ForkPush {
     pub jaw_angle: f64,
     /// Distance between the plate centres, metres.
     pub opening: f64,
+    /// Height of the fingertips above the table while pushing, metres (chosen so the object slides
+    /// rather than tips; absent in plans written before it was planned).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
 }
 
 /// Settings of the fork-push geometry.
@@ -44,6 +48,18 @@ pub struct ForkSettings {
     /// standard deviations of the combined perception (2 mm) and actuation (1 mm) noise, so a finger
     /// rarely comes down on a neighbour.
     pub finger_clearance: f64,
+    /// Preferred fingertip height as a fraction of the object's height. Default 0.5 (the paper
+    /// lowers the gripper to the object's mid-height).
+    pub height_fraction: f64,
+    /// Lowest fingertip height above the table, metres. Default 0.003: the fingertips must clear the
+    /// table by more than the arm's calibration error.
+    pub min_height: f64,
+    /// Coulomb friction between objects and the table that pushes must overcome, as the planner
+    /// believes it. Default 0.3 (handbook values for plastic or wood on laminate, 0.2–0.4; the
+    /// simulator's value).
+    pub table_friction: f64,
+    /// Margin kept against tipping, metres. Default 0.001.
+    pub tip_margin: f64,
 }
 
 impl Default for ForkSettings {
@@ -51,6 +67,10 @@ impl Default for ForkSettings {
         Self {
             approach_clearance: 0.01,
             finger_clearance: 0.003,
+            height_fraction: 0.5,
+            min_height: 0.003,
+            table_friction: 0.3,
+            tip_margin: 0.001,
         }
     }
 }
@@ -70,6 +90,20 @@ impl ForkSettings {
                     self.finger_clearance
                 ),
             ));
+        }
+        for (field, value, range) in [
+            ("height_fraction", self.height_fraction, (0.0, 1.0)),
+            ("min_height", self.min_height, (0.0, 0.05)),
+            ("table_friction", self.table_friction, (0.0, 2.0)),
+            ("tip_margin", self.tip_margin, (0.0, 0.02)),
+        ] {
+            if !(value.is_finite() && (range.0..=range.1).contains(&value)) {
+                return Err(Error::field(
+                    "fork",
+                    field,
+                    format!("must be between {} and {}, got {value}", range.0, range.1),
+                ));
+            }
         }
         if !(self.approach_clearance.is_finite() && self.approach_clearance >= 0.0) {
             return Err(Error::field(
@@ -105,22 +139,58 @@ pub fn finger_footprints(
     })
 }
 
-/// Plans the gripper motion that pushes `world[pushed]` by `distance` along the unit vector `push`.
-/// `world` holds every object's outline where it stands now, `ids` their ids.
+/// The fingertip height at which pushing `outline` (an object `height` tall) slides it rather than
+/// tips it, or `None` when no height at or above `min_height` does.
+///
+/// Pushed at height `h` against table friction `μ`, the object is pushed with about `μ·m·g` and tips
+/// about an edge of its base when that force's moment `μ·m·g·h` exceeds the weight's, `m·g·r`, with
+/// `r` the distance from the centroid to that edge. The fingers do not push exactly along the planned
+/// direction (a corner between two fingers is pushed sideways too), so `r` is the distance to the
+/// nearest edge of the base, whatever the push direction: the fingertips go at most `(r − margin)/μ`
+/// high (the contact resultant cannot sit below them), and at the preferred fraction of the height
+/// when that is lower.
+pub fn push_height(settings: &ForkSettings, outline: &ConvexPolygon, height: f64) -> Option<f64> {
+    let centroid = outline.centroid();
+    let lever = outline
+        .edges()
+        .map(|(a, b)| {
+            let edge = b - a;
+            let outward = Vector2::new(edge.y, -edge.x).normalize();
+            outward.dot(&(a - centroid))
+        })
+        .fold(f64::INFINITY, f64::min);
+    let highest = if settings.table_friction > 0.0 {
+        (lever - settings.tip_margin) / settings.table_friction
+    } else {
+        f64::INFINITY
+    };
+    let preferred = settings.height_fraction * height;
+    let chosen = preferred.min(highest);
+    (chosen >= settings.min_height).then_some(chosen)
+}
+
+/// Plans the gripper motion that pushes `world[pushed]` (an object `height` tall) by `distance` along
+/// the unit vector `push`. `world` holds every object's outline where it stands now, `ids` their
+/// ids.
 ///
 /// # Errors
-/// The [`SkipReason`] when the fingers cannot be placed or moved.
+/// The [`SkipReason`] when the fingers cannot be placed or moved, or the object would tip.
+#[allow(clippy::too_many_arguments)]
 pub fn plan_fork(
     gripper: &Gripper,
     settings: &ForkSettings,
     world: &[ConvexPolygon],
     ids: &[ObjectId],
     pushed: usize,
+    height: f64,
     push: &Vector2<f64>,
     distance: f64,
 ) -> std::result::Result<ForkPush, SkipReason> {
     let object = &world[pushed];
     let centroid = object.centroid();
+    let Some(tip_height) = push_height(settings, object, height) else {
+        return Err(SkipReason::WouldTip);
+    };
     let opening = gripper.fork_push_opening();
     let reach = object.radius_about(&centroid) + gripper.plate_length + opening + 0.01;
     let far = centroid - push * reach;
@@ -169,5 +239,6 @@ pub fn plan_fork(
         end,
         jaw_angle: jaw_line.y.atan2(jaw_line.x),
         opening,
+        height: Some(tip_height),
     })
 }

@@ -24,7 +24,7 @@ use crate::scene::{ObjectId, Pose, Scene};
 
 pub use central::{TowardCentral, TowardCentralSettings};
 pub use compare::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
-pub use fork::{ForkPush, ForkSettings};
+pub use fork::{ForkPush, ForkSettings, push_height};
 pub use predict::predict;
 pub use socp::{Socp, SocpSettings};
 
@@ -82,6 +82,15 @@ pub enum SkipReason {
     NoFingerContact,
     /// No row of the cluster fits the jaws on any axis tried (the push program is infeasible).
     NoRow,
+    /// Pushed at any fingertip height the fingers can reach, the object would tip over rather than
+    /// slide.
+    WouldTip,
+    /// Planned, but the grasp planner found no multi-object grasp on the table predicted after the
+    /// pushes, so they were not made.
+    NoGraspAfter,
+    /// Planned, but after the pushes some pushed object could not be taken by itself if the
+    /// multi-object grasp failed, so they were not made.
+    DeadEnd,
 }
 
 impl std::fmt::Display for SkipReason {
@@ -95,6 +104,9 @@ impl std::fmt::Display for SkipReason {
             Self::FingersHit { object } => write!(f, "fingers would hit object {object}"),
             Self::NoFingerContact => write!(f, "the object fits between the fingers"),
             Self::NoRow => write!(f, "no row of the cluster fits the jaws"),
+            Self::WouldTip => write!(f, "it would tip over rather than slide"),
+            Self::NoGraspAfter => write!(f, "no multi-object grasp after the pushes"),
+            Self::DeadEnd => write!(f, "it could not be taken alone after the pushes"),
         }
     }
 }

@@ -353,6 +353,7 @@ impl Socp {
                     &world,
                     &ids,
                     index,
+                    scene.objects()[index].height,
                     &direction,
                     distance,
                 ) {

@@ -267,7 +267,9 @@ impl Executor for Sim {
         let start = (fork.approach.x + ex, fork.approach.y + ey);
         let end = (fork.end.x + ex, fork.end.y + ey);
         let members = self.near(start, end);
-        let tip = self.settings.push_height_fraction * self.prisms[target].height;
+        let tip = fork
+            .height
+            .unwrap_or(self.settings.push_height_fraction * self.prisms[target].height);
         let above = self.tallest(&members) + 0.005;
         let mut stage = Stage::new(
             &self.prisms,
@@ -341,26 +343,30 @@ impl Executor for Sim {
         let mut truth: Vec<Object> = Vec::new();
         self.lost.clear();
         for prism in &self.prisms {
-            let outline = prism.outline();
-            let outside = outline
+            // Upright, it is its own prism; toppled flat on a face, the camera sees a new one.
+            let (polygon, pose, height) = if prism.tilt() <= s.topple_angle {
+                (prism.polygon.clone(), prism.planar_pose(), prism.height)
+            } else if let Some(seen) = prism.lying_flat() {
+                seen
+            } else {
+                self.lost.push((prism.id, "toppled"));
+                continue;
+            };
+            let outside = polygon
+                .transformed(&pose.isometry())
                 .vertices()
                 .iter()
                 .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
-            if prism.tilt() > s.topple_angle {
-                self.lost.push((prism.id, "toppled"));
-                continue;
-            }
             if outside {
                 self.lost.push((prism.id, "outside the workspace"));
                 continue;
             }
-            let pose = prism.planar_pose();
             let object = Object {
                 id: prism.id,
                 name: prism.name.clone(),
-                polygon: prism.polygon.clone(),
+                polygon,
                 pose,
-                height: prism.height,
+                height,
                 mass: Some(prism.mass),
             };
             truth.push(object.clone());
@@ -393,7 +399,25 @@ impl Executor for Sim {
             }
         }
         separate(&mut objects, &workspace);
-        Scene::from_parts(workspace, self.gripper.clone(), objects)
+        // What still overlaps after that rests on another object (a toppled object lying across a
+        // neighbour): the camera cannot give it a place on the table, so it is left out.
+        let mut kept: Vec<Object> = Vec::with_capacity(objects.len());
+        for object in objects {
+            let outline = object.world_polygon();
+            let on_another = kept.iter().any(|o| {
+                overlap(
+                    &o.world_polygon(),
+                    &outline,
+                    crate::scene::OVERLAP_TOLERANCE,
+                )
+            });
+            if on_another {
+                self.lost.push((object.id, "lying on another object"));
+            } else {
+                kept.push(object);
+            }
+        }
+        Scene::from_parts(workspace, self.gripper.clone(), kept)
     }
 
     fn lost(&self) -> Vec<(ObjectId, &'static str)> {

@@ -71,9 +71,37 @@ impl Prism {
             .acos()
     }
 
-    /// The outline seen from above at the planar pose.
-    pub fn outline(&self) -> ConvexPolygon {
-        self.polygon.transformed(&self.planar_pose().isometry())
+    /// The prism as an overhead camera sees it when it has toppled and lies flat on a face (three or
+    /// more corners on the table): its footprint (about its centroid), where that sits (yaw 0) and
+    /// how tall it stands now. `None` when it leans on something rather than lying flat.
+    pub fn lying_flat(&self) -> Option<(ConvexPolygon, PlanarPose, f64)> {
+        let corners: Vec<Vector> = self
+            .points()
+            .into_iter()
+            .map(|p| self.rotation * p + self.translation)
+            .collect();
+        let low = corners.iter().map(|c| c.z).fold(f64::INFINITY, f64::min);
+        let high = corners
+            .iter()
+            .map(|c| c.z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let on_table: Vec<nalgebra::Point2<f64>> = corners
+            .iter()
+            .filter(|c| c.z < low + 1e-3)
+            .map(|c| nalgebra::Point2::new(c.x, c.y))
+            .collect();
+        let resting = ConvexPolygon::new(crate::geometry::convex_hull(&on_table)).ok()?;
+        if resting.area() < 1e-6 {
+            return None;
+        }
+        let all: Vec<nalgebra::Point2<f64>> = corners
+            .iter()
+            .map(|c| nalgebra::Point2::new(c.x, c.y))
+            .collect();
+        let footprint = ConvexPolygon::new(crate::geometry::convex_hull(&all)).ok()?;
+        let centre = footprint.centroid();
+        let local = footprint.translated(&-centre.coords);
+        Some((local, PlanarPose::new(centre.x, centre.y, 0.0), high - low))
     }
 
     fn points(&self) -> Vec<Vector> {

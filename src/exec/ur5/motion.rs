@@ -215,7 +215,15 @@ impl Translator {
     pub fn fork_push(&self, scene: &Scene, push: &Push, name: &str) -> Vec<Step> {
         let fork = &push.fork;
         let travel = self.travel_height(scene);
-        let mid = self.config.heights.push_fraction * self.height_of(scene, push.object);
+        // The planned fingertip height (chosen so the object slides), or the configured fraction of
+        // the object's height for plans that carry none.
+        let (mid, which) = match fork.height {
+            Some(height) => (height, "push height"),
+            None => (
+                self.config.heights.push_fraction * self.height_of(scene, push.object),
+                "mid-height",
+            ),
+        };
         let vertical = self.config.speeds.vertical;
         let opening = fork.opening;
         let pose = |p: nalgebra::Point2<f64>, z| self.tool_pose(p.x, p.y, z, fork.jaw_angle);
@@ -236,7 +244,7 @@ impl Translator {
             Self::moves(
                 Phase::DescendToPush,
                 format!(
-                    "{name}: descend to mid-height of object {} ({:.1} mm)",
+                    "{name}: descend to {which} of object {} ({:.1} mm)",
                     push.object,
                     mid * 1e3
                 ),
