@@ -276,3 +276,33 @@ fn the_same_seed_gives_the_same_run_bit_for_bit() {
     // Another noise seed observes differently.
     assert_ne!(a, run(12));
 }
+
+/// What the grasp planner calls held is held in physics: push-mog's multi-object grasps on three
+/// seeded scenes, replayed in the simulator from the table the planner assumed, carry every
+/// predicted object at least 90 % of the time without noise (the acceptance figure of the
+/// grasp-physics work) and at least 75 % with the simulator's noise.
+#[test]
+fn planned_multi_object_grasps_hold_in_the_simulator() {
+    use pushmog::experiment::agreement::{AgreementSettings, replay_grasps};
+    let replays = replay_grasps(&AgreementSettings {
+        scenes: 3,
+        refused_per_trip: 0,
+        ..AgreementSettings::default()
+    })
+    .unwrap();
+    for noisy in [false, true] {
+        let multi: Vec<_> = replays
+            .iter()
+            .filter(|r| r.noisy == noisy && r.predicted >= 2)
+            .collect();
+        let held = multi.iter().filter(|r| r.held()).count();
+        println!("noise {noisy}: {held} of {} held", multi.len());
+        assert!(multi.len() >= 5, "too few multi-object grasps to judge");
+        let floor = if noisy { 0.75 } else { 0.9 };
+        assert!(
+            held as f64 >= floor * multi.len() as f64,
+            "noise {noisy}: {held} of {}",
+            multi.len()
+        );
+    }
+}

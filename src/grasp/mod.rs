@@ -1,14 +1,19 @@
-//! Grasping: where to put the jaws so one closing lifts as many objects as possible.
+//! Grasping: where to put the jaws so one closing lifts as many objects as possible, reliably.
 //!
 //! - [`JawPose`]: centre, closing axis and opening of the parallel jaws; the plates' footprints and the
 //!   region between them.
-//! - [`GraspModel`]: pushmog's analytic prediction of what a closing does: which objects end up in a
-//!   row between the plates and whether friction holds that row (see `model.rs`).
+//! - [`GraspModel`]: what a closing does. The caught objects slide into a row (`model.rs`); then by
+//!   default the closing is simulated in the plane, objects sliding and turning on the table while the
+//!   coupled plates close (`closing.rs`), or judged by the first, analytic model (objects slide
+//!   without turning, Nguyen's condition object by object).
+//! - [`GraspOutcome`]: how a planner judges candidates: the model on the observed table, on noisy
+//!   copies of it ([`ModelOutcome`], robust), or a rollout in the simulator (`exec::Rollout`).
 //! - [`SingleObject`]: a stable frictional two-jaw grasp of one object, jaws clear of neighbours.
-//! - [`MultiObject`]: an analytic stand-in for MOG-Net. It samples jaw poses over a cluster and ranks
-//!   them by the objects [`GraspModel`] predicts held. MOG-Net is a learned network trained on physics
-//!   rollouts; this is not that network, and its predictions are only as good as the model's
-//!   assumptions (objects slide along the closing axis without turning; rigid frictional contacts).
+//! - [`MultiObject`]: an analytic stand-in for MOG-Net: candidates screened for clearance and a row,
+//!   judged by the outcome model, ranked by the estimated probability that every object is carried.
+//!
+//! The mechanics, the noise and the measured agreement with the simulator are in
+//! `formulations/grasping.md`.
 
 mod closing;
 mod jaws;
