@@ -4,7 +4,6 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use pushmog::cluster::{Clusterer, Hierarchical};
-use pushmog::exec::Ideal;
 use pushmog::grasp::{GraspPlanner, MultiObject, SingleObject};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
 use pushmog::push::{PushPlanner, TowardCentral, predict};
@@ -47,7 +46,7 @@ fn baselines(c: &mut Criterion) {
     });
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
     c.bench_function("run/push-mog/34", |b| {
-        b.iter(|| policy.run(&scene, &mut Ideal::default(), 1).unwrap())
+        b.iter(|| policy.run(&scene, &mut policy.ideal(), 1).unwrap())
     });
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::scene::ObjectId;
+use crate::id::ObjectId;
 
 /// Everything that can go wrong in pushmog, each variant naming the culprit.
 #[derive(Debug, thiserror::Error)]

@@ -4,8 +4,9 @@
 use nalgebra::Point2;
 use pushmog::cluster::{
     ClusterObjective, Clusterer, CostModel, Hierarchical, Milp, MilpSettings, admits_row,
-    centroid_diameter, compact_candidates, compare_clustering, fits_jaws,
+    centroid_diameter, compact_candidates, fits_jaws,
 };
+use pushmog::experiment::compare_clustering;
 use pushmog::geometry::{ConvexPolygon, separating_line};
 use pushmog::json::read_scene;
 use pushmog::plan::{Status, verify_clustering};

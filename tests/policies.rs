@@ -1,7 +1,6 @@
 //! The baselines end to end: every plan of every policy passes the independent verifier, and the
 //! objects-per-trip figures behave as the policies' designs say.
 
-use pushmog::exec::Ideal;
 use pushmog::plan::{Plan, RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
 use pushmog::scene::{GeneratorSettings, Scene, builtin_object_set, generate_scene};
@@ -12,7 +11,7 @@ fn scene(seed: u64) -> Scene {
 
 fn run(kind: PolicyKind, scene: &Scene, seed: u64) -> Plan {
     let policy = Policy::new(kind, PolicySettings::default()).unwrap();
-    let mut executor = Ideal::new(policy.settings().multi.model.clone());
+    let mut executor = policy.ideal();
     policy.run(scene, &mut executor, seed).unwrap()
 }
 
@@ -136,7 +135,7 @@ fn stranded_bars_are_cleared_without_identical_retries() {
     let scene = Scene::from_parts(Workspace::new(0.4, 0.3), Gripper::default(), objects).unwrap();
     for kind in PolicyKind::ALL {
         let policy = Policy::new(kind, PolicySettings::default()).unwrap();
-        let mut ideal = Ideal::new(policy.settings().multi.model.clone());
+        let mut ideal = policy.ideal();
         let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
         for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
             let plan = policy.run(&scene, executor, 1).unwrap();

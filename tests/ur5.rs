@@ -6,7 +6,6 @@ use std::process::Output;
 
 use nalgebra::{Rotation3, Vector3};
 use pushmog::error::Error;
-use pushmog::exec::Ideal;
 use pushmog::exec::ur5::fake::{ControllerFaults, FakeController, FakeGripper, GripperFaults};
 use pushmog::exec::ur5::{
     Action, Calibration, Correspondence, DryRun, Live, Observation, RobotConfig, StepRunner,
@@ -380,7 +379,7 @@ fn the_cli_reports_a_fault_and_keeps_the_record_of_completed_steps() {
 fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
     let scene = pushmog::json::read_scene(&fixture("ur5/scene.json")).unwrap();
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
-    let mut ideal = Ideal::new(policy.settings().multi.model.clone());
+    let mut ideal = policy.ideal();
     let reference = policy.run(&scene, &mut ideal, 5).unwrap();
     let dir = scratch(name);
     let mut observations: Vec<SceneSpec> =

@@ -17,7 +17,7 @@ use super::separability::repair_separability;
 use super::split::{SplitSettings, split_until_valid};
 use super::{Clusterer, Clustering};
 use crate::error::{Error, Result};
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::Scene;
 
 /// The linkage rule: how the distance between two clusters follows from their members' distances.

@@ -31,7 +31,7 @@ use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::separability::separability_conflicts;
 use super::{Clusterer, Clustering};
 use crate::error::{Error, Result};
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::Scene;
 use crate::time_model::TimeModel;
 
@@ -62,11 +62,14 @@ pub struct MilpSettings {
     /// 0.10, the hierarchical clustering's default cut height.
     pub max_diameter: f64,
     /// Pushes estimated shorter than this are not made, metres. Default 0.003 (as the push planner).
+    /// In a policy's settings it is set once for every stage (`PolicySettings::min_push`).
+    #[serde(skip)]
     pub min_push: f64,
     /// Room a candidate cluster's row must leave in the usable jaw gap, metres: a cluster of two or
     /// more is a candidate only if its members can stand in a row (1 mm apart) of at most the gap
-    /// less this, along some axis at their current yaws. Default 0.010, as the SOCP push planner's
-    /// `margin` (keep them equal).
+    /// less this, along some axis at their current yaws. Default 0.010. In a policy it is the push
+    /// planner's (`socp.margin`).
+    #[serde(skip)]
     pub row_margin: f64,
     /// Wall-clock limit of one solve, seconds. Default 10.
     pub time_limit: f64,
@@ -78,9 +81,12 @@ pub struct MilpSettings {
     /// that count) rather than as one weighted sum. Default true: the weighted sum's near-ties slow
     /// the proof by orders of magnitude (`formulations/clustering.md`).
     pub two_stage_fewest_clusters: bool,
-    /// Seconds per trip and per push.
+    /// Seconds per trip and per push. In a policy it is the policy's (`PolicySettings::time_model`).
+    #[serde(skip)]
     pub time_model: TimeModel,
-    /// The heuristic whose clusters join the candidates and warm-start the solver.
+    /// The heuristic whose clusters join the candidates and warm-start the solver. In a policy it is
+    /// the policy's (`PolicySettings::clustering`).
+    #[serde(skip)]
     pub heuristic: HierarchicalSettings,
 }
 
@@ -283,7 +289,11 @@ impl Milp {
                 let status = match reason {
                     microlp::TerminationReason::ProvenOptimal => Status::Optimal,
                     microlp::TerminationReason::MipGap => Status::Feasible,
-                    _ => Status::TimeLimit,
+                    microlp::TerminationReason::TimeLimit => Status::TimeLimit,
+                    microlp::TerminationReason::NodeLimit => Status::NodeLimit,
+                    other => Status::Failed {
+                        reason: format!("microlp stopped: {other:?}"),
+                    },
                 };
                 Solved {
                     status,

@@ -12,7 +12,6 @@
 //! `formulations/clustering.md`, with the objectives of [`CostModel`]).
 
 mod candidates;
-mod compare;
 mod hierarchical;
 mod milp;
 mod objective;
@@ -22,11 +21,10 @@ mod split;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::plan::Outcome;
+use crate::outcome::Outcome;
 use crate::scene::{ObjectId, Scene};
 
 pub use candidates::{clashing_pairs, compact_candidates, compact_candidates_where};
-pub use compare::{SceneComparison, compare_clustering, comparison_markdown};
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
 pub use milp::{Milp, MilpBackend, MilpSettings};
 pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};

@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 use rayon::prelude::*;
 
 use crate::error::Result;
-use crate::exec::{Executor, Ideal, Sim, SimSettings};
+use crate::exec::{Executor, Sim, SimSettings};
 use crate::grasp::{Grasp, centre_line_offset};
 use crate::policy::{Policy, PolicyKind, PolicySettings};
 use crate::push::predict;
@@ -122,7 +122,7 @@ fn replay_scene(
     scene: &Scene,
     seed: u64,
 ) -> Result<Vec<Replay>> {
-    let mut ideal = Ideal::new(policy.settings().multi.model.clone());
+    let mut ideal = policy.ideal();
     let plan = policy.run(scene, &mut ideal, seed)?;
     let mut replays = Vec::new();
     let noiseless = SimSettings::noiseless_from(&settings.sim);

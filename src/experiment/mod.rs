@@ -8,16 +8,20 @@
 //! described in `experiments/README.md`.
 
 pub mod agreement;
+mod cluster_comparison;
 mod config;
 pub mod figures;
 pub mod log;
+mod push_comparison;
 mod report;
 mod runner;
 pub mod tables;
 
+pub use cluster_comparison::{SceneComparison, compare_clustering, comparison_markdown};
 pub use config::{
     ExecutorConfig, ExecutorKind, ExperimentConfig, PolicyConfig, RunSpec, SceneConfig, SweepConfig,
 };
 pub use log::{Log, LogHeader, LogRow, merge_logs, read_log, write_log};
+pub use push_comparison::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
 pub use report::{ReportPaths, write_report};
 pub use runner::{RunReport, RunnerOptions, quantile, run_experiment, run_one};

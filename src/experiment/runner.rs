@@ -15,7 +15,7 @@ use super::log::{
     machine_description, read_log,
 };
 use crate::error::{Error, Result};
-use crate::exec::{Executor, Ideal, Sim};
+use crate::exec::{Executor, Sim};
 use crate::plan::{Plan, RunStatus};
 use crate::policy::Policy;
 use crate::scene::{ObjectSet, generate_scene};
@@ -52,13 +52,15 @@ pub fn run_one(
     let bin_distance = settings.time_model.bin_distance;
     let policy = Policy::new(config.policies[spec.policy].name, settings)?;
     let mut executor: Box<dyn Executor> = match config.executor.kind {
-        ExecutorKind::Ideal => Box::new(Ideal::new(policy.settings().multi.model.clone())),
+        ExecutorKind::Ideal => Box::new(policy.ideal()),
         ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(spec.friction), spec.run_seed)?),
     };
     let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
     let (cleared, stop_reason, remaining) = match &plan.status {
         RunStatus::Cleared => (true, None, 0),
-        RunStatus::Stopped { remaining, reason } => (false, Some(reason.clone()), remaining.len()),
+        RunStatus::Stopped { remaining, reason } => {
+            (false, Some(reason.to_string()), remaining.len())
+        }
     };
     let row = LogRow {
         id: spec.id,

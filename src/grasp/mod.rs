@@ -25,7 +25,7 @@ mod single;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::plan::Outcome;
+use crate::outcome::Outcome;
 use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;

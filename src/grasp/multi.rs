@@ -40,7 +40,7 @@ use super::outcome::{GraspOutcome, ModelOutcome, Noise, scene_bodies};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull};
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Scene};
 
 /// Settings of [`MultiObject`].
@@ -53,7 +53,9 @@ pub struct MultiObjectSettings {
     pub angles: usize,
     /// Jaw opening as a fraction of the stroke. Default 1.0 (fully open, as in the paper).
     pub opening_fraction: f64,
-    /// The grasp model.
+    /// The grasp model. In a policy's settings it is set once for every stage
+    /// (`PolicySettings::grasp_model`).
+    #[serde(skip)]
     pub model: GraspModel,
     /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
     /// Default 4.

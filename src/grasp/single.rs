@@ -15,7 +15,7 @@ use super::outcome::scene_bodies;
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::edge_grasps;
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Scene};
 
 /// Settings of [`SingleObject`].
@@ -25,7 +25,9 @@ pub struct SingleObjectSettings {
     /// Gap between each open plate and the object, metres; half of it is tried too when neighbours
     /// are close. Default 0.01.
     pub clearance: f64,
-    /// The grasp model.
+    /// The grasp model. In a policy's settings it is set once for every stage
+    /// (`PolicySettings::grasp_model`).
+    #[serde(skip)]
     pub model: GraspModel,
 }
 

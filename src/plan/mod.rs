@@ -6,10 +6,9 @@
 //!   was planned on, the clustering, the chosen cluster, the pushes, the grasp and what was carried.
 //!   [`verify`] checks a plan independently of the planners.
 
-mod outcome;
 mod verify;
 
-pub use outcome::{Outcome, Stats, Status};
+pub use crate::outcome::{Outcome, Stats, Status};
 pub use verify::{Violation, verify, verify_clustering, verify_trip};
 
 use serde::{Deserialize, Serialize};
@@ -86,8 +85,56 @@ pub enum RunStatus {
         /// Objects left.
         remaining: Vec<ObjectId>,
         /// Why it stopped.
-        reason: String,
+        reason: StopReason,
     },
+}
+
+/// Why a run stopped with objects left.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum StopReason {
+    /// Every object left is lost to planning: toppled, outside the workspace, lying on another.
+    NothingPlannable {
+        /// Each reason with how many objects it holds for.
+        lost: Vec<(String, usize)>,
+    },
+    /// Every object left is wider than the jaw gap.
+    AllTooWide,
+    /// Attempts in a row found no grasp or carried nothing.
+    FailedAttempts {
+        /// How many.
+        count: usize,
+    },
+    /// The run made as many trips as it may.
+    TripLimit {
+        /// The limit.
+        limit: usize,
+    },
+    /// The run was not finished (an executor fault, or the record was taken while it went on).
+    Interrupted,
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NothingPlannable { lost } => {
+                let counts: Vec<String> =
+                    lost.iter().map(|(why, n)| format!("{n} {why}")).collect();
+                write!(
+                    f,
+                    "nothing left that can be planned for: {}",
+                    counts.join(", ")
+                )
+            }
+            Self::AllTooWide => write!(f, "every object left is wider than the jaw gap"),
+            Self::FailedAttempts { count } => write!(
+                f,
+                "{count} attempts in a row found no grasp or carried nothing"
+            ),
+            Self::TripLimit { limit } => write!(f, "trip limit of {limit} reached"),
+            Self::Interrupted => write!(f, "interrupted before it ended"),
+        }
+    }
 }
 
 /// The record of a closed-loop run.

@@ -22,27 +22,21 @@
 
 use std::str::FromStr;
 use std::sync::Arc;
-use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cluster::{
-    Clusterer, Clustering, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
-};
+use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
 use crate::error::{Error, Result};
-use crate::exec::{Executor, Rollout, SimSettings};
+use crate::exec::{Executor, Ideal, Rollout, SimSettings};
 use crate::grasp::{
-    Grasp, GraspPlanner, JawPose, MultiObject, MultiObjectSettings, SingleObject,
-    SingleObjectSettings,
+    Grasp, GraspModel, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
 };
-use crate::plan::{Fault, Plan, RunStatus, Status, Trip};
+use crate::plan::Plan;
 use crate::push::{
-    Push, PushPlan, PushPlanner, SkipReason, SkippedPush, Socp, SocpSettings, TowardCentral,
-    TowardCentralSettings, predict,
+    ForkSettings, PushPlanner, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
 };
-use crate::random::SeededRng;
-use crate::scene::{Gripper, ObjectId, Scene};
-use crate::time_model::{GraspPath, PushPath, TimeModel};
+use crate::scene::{ObjectId, Scene};
+use crate::time_model::TimeModel;
 
 /// Which policy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -132,8 +126,11 @@ impl FromStr for PolicyKind {
     }
 }
 
-/// Settings of every stage of a policy and of the loop.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+/// Settings of every stage of a policy and of the loop. Each physical setting is set once here and
+/// shared by every stage that needs it (the grasp model, the fork-push geometry, the shortest push,
+/// the time model, the heuristic clustering that seeds the MILP); the stages' own copies are filled
+/// from these when the policy is built and are not read from settings files.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PolicySettings {
     /// Hierarchical clustering (`mog`, `push-mog`, `push-mog-socp`).
@@ -150,13 +147,40 @@ pub struct PolicySettings {
     pub multi: MultiObjectSettings,
     /// Limits of the loop.
     pub run: LoopSettings,
+    /// What a closing does, for every stage that asks: the multi- and single-object planners, the
+    /// SOCP's judgement of rows, and the ideal executor.
+    pub grasp_model: GraspModel,
+    /// Fork-push geometry, for both push planners.
+    pub fork: ForkSettings,
+    /// Pushes shorter than this are not made, metres, by the push planners and in the MILP's
+    /// estimates. Default 0.003.
+    pub min_push: f64,
     /// Judge multi-object candidates by rolling each sample out in the rapier simulator (default
     /// settings) instead of with the grasp model: slower by two orders of magnitude, for comparison.
     /// Default false.
     pub rollout: bool,
     /// Seconds per trip and per push: the time each run reports, and the time the MILP clustering
-    /// minimises (it replaces `milp.time_model`).
+    /// minimises.
     pub time_model: TimeModel,
+}
+
+impl Default for PolicySettings {
+    fn default() -> Self {
+        Self {
+            clustering: HierarchicalSettings::default(),
+            milp: MilpSettings::default(),
+            pushing: TowardCentralSettings::default(),
+            socp: SocpSettings::default(),
+            single: SingleObjectSettings::default(),
+            multi: MultiObjectSettings::default(),
+            run: LoopSettings::default(),
+            grasp_model: GraspModel::default(),
+            fork: ForkSettings::default(),
+            min_push: 0.003,
+            rollout: false,
+            time_model: TimeModel::default(),
+        }
+    }
 }
 
 /// Limits that keep the closed loop finite.
@@ -184,6 +208,36 @@ impl PolicySettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
+        self.effective().validate_stages()
+    }
+
+    /// The settings with every stage's copy of a shared setting filled from its single source.
+    pub fn effective(&self) -> Self {
+        let mut s = self.clone();
+        s.milp.time_model = s.time_model.clone();
+        s.milp.heuristic = s.clustering.clone();
+        s.milp.min_push = s.min_push;
+        s.milp.row_margin = s.socp.margin;
+        s.pushing.fork = s.fork.clone();
+        s.pushing.min_push = s.min_push;
+        s.socp.model = s.grasp_model.clone();
+        s.socp.fork = s.fork.clone();
+        s.socp.min_push = s.min_push;
+        s.single.model = s.grasp_model.clone();
+        s.multi.model = s.grasp_model.clone();
+        s
+    }
+
+    fn validate_stages(&self) -> Result<()> {
+        if !(self.min_push.is_finite() && (0.0..=0.1).contains(&self.min_push)) {
+            return Err(Error::field(
+                "policy",
+                "min_push",
+                format!("must be between 0 and 0.1 m, got {}", self.min_push),
+            ));
+        }
+        self.grasp_model.validate()?;
+        self.fork.validate()?;
         self.clustering.validate()?;
         self.milp.validate()?;
         self.pushing.validate()?;
@@ -220,15 +274,6 @@ pub struct Policy {
     multi: MultiObject,
 }
 
-/// Wall-clock planning times of one run, seconds.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RunTiming {
-    /// Every planning attempt (clustering, pushes and grasp together).
-    pub planning: Vec<f64>,
-    /// Every clustering.
-    pub clustering: Vec<f64>,
-}
-
 /// One of the clusterers, chosen by the settings.
 #[derive(Clone, Debug)]
 enum AnyClusterer {
@@ -261,14 +306,11 @@ impl AnyPusher {
     }
 }
 
-/// What one planning attempt produced before execution.
-struct Draft {
-    clustering: Clustering,
-    cluster: Option<usize>,
-    pushes: Vec<Push>,
-    skipped: Vec<SkippedPush>,
-    grasp: Grasp,
-}
+mod run;
+mod trip;
+
+pub use run::{Run, RunTiming, run_seconds};
+pub use trip::{TripContext, TripPlan};
 
 impl Policy {
     /// A policy with these settings.
@@ -277,13 +319,11 @@ impl Policy {
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn new(kind: PolicyKind, settings: PolicySettings) -> Result<Self> {
         settings.validate()?;
+        let settings = settings.effective();
         Ok(Self {
             kind,
             clusterer: if kind.optimal_clustering() {
-                AnyClusterer::Milp(Milp::new(MilpSettings {
-                    time_model: settings.time_model.clone(),
-                    ..settings.milp.clone()
-                })?)
+                AnyClusterer::Milp(Milp::new(settings.milp.clone())?)
             } else {
                 AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
             },
@@ -319,6 +359,11 @@ impl Policy {
         &self.settings
     }
 
+    /// An executor that applies this policy's plans exactly, judging grasps with its grasp model.
+    pub fn ideal(&self) -> Ideal {
+        Ideal::new(self.settings.grasp_model.clone())
+    }
+
     /// Grasps of `targets` the multi-object planner refuses although they catch two or more objects
     /// and land on nothing, evenly spread over its candidates (see [`MultiObject::refused`]).
     ///
@@ -332,11 +377,11 @@ impl Policy {
     }
 
     /// Clears `scene` with `executor`, planning after every observation; `seed` drives the random
-    /// choices (which object or cluster next).
+    /// choices (which object or cluster next). A loop over [`Run::step`].
     ///
     /// # Errors
-    /// Misuse or an executor fault; a run that cannot clear the table ends with
-    /// [`RunStatus::Stopped`] inside `Ok`.
+    /// Misuse or an executor fault (drive a [`Run`] yourself to keep the record of a run that
+    /// failed); a run that cannot clear the table ends with [`crate::plan::RunStatus::Stopped`] inside `Ok`.
     pub fn run(&self, scene: &Scene, executor: &mut dyn Executor, seed: u64) -> Result<Plan> {
         self.run_timed(scene, executor, seed).map(|(plan, _)| plan)
     }
@@ -352,345 +397,8 @@ impl Policy {
         executor: &mut dyn Executor,
         seed: u64,
     ) -> Result<(Plan, RunTiming)> {
-        let mut timing = RunTiming::default();
-        executor.reset(scene)?;
-        let mut rng = SeededRng::new(seed);
-        let max_trips =
-            ((self.settings.run.max_trips_per_object * scene.len() as f64).ceil() as usize).max(1);
-        let mut trips: Vec<Trip> = Vec::new();
-        let mut failed_attempts: Vec<String> = Vec::new();
-        let mut in_a_row = 0;
-        // Where grasps carried nothing: never tried again in the same place.
-        let mut failed_jaws: Vec<JawPose> = Vec::new();
-        let status = loop {
-            let observed = executor.observe()?;
-            let lost = executor.lost();
-            let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
-            remaining.extend(lost.iter().map(|(id, _)| *id));
-            if observed.is_empty() {
-                if lost.is_empty() {
-                    break RunStatus::Cleared;
-                }
-                let mut reasons: Vec<&str> = lost.iter().map(|(_, why)| *why).collect();
-                reasons.sort_unstable();
-                reasons.dedup();
-                let counts: Vec<String> = reasons
-                    .iter()
-                    .map(|why| {
-                        let n = lost.iter().filter(|(_, w)| w == why).count();
-                        format!("{n} {why}")
-                    })
-                    .collect();
-                break RunStatus::Stopped {
-                    remaining,
-                    reason: format!(
-                        "nothing left that can be planned for: {}",
-                        counts.join(", ")
-                    ),
-                };
-            }
-            let stop = |reason: String| RunStatus::Stopped {
-                remaining: remaining.clone(),
-                reason,
-            };
-            if observed.ungraspable().len() == observed.len() {
-                break stop("every object left is wider than the jaw gap".to_string());
-            }
-            if in_a_row >= self.settings.run.max_failed_attempts {
-                break stop(format!(
-                    "{in_a_row} attempts in a row found no grasp or carried nothing"
-                ));
-            }
-            if trips.len() >= max_trips {
-                break stop(format!("trip limit of {max_trips} reached"));
-            }
-            let started = Instant::now();
-            let draft = match self.kind {
-                PolicyKind::Sog => self.draft_single(&observed, &mut rng, &failed_jaws)?,
-                kind => self.draft_clustered(
-                    &observed,
-                    &mut rng,
-                    kind.pushes(),
-                    &failed_jaws,
-                    &mut timing,
-                )?,
-            };
-            timing.planning.push(started.elapsed().as_secs_f64());
-            let draft = match draft {
-                Ok(draft) => draft,
-                Err(reason) => {
-                    failed_attempts.push(reason);
-                    in_a_row += 1;
-                    continue;
-                }
-            };
-            let mut fault = None;
-            for (k, push) in draft.pushes.iter().enumerate() {
-                if let Some(landing) = executor.push(push)? {
-                    fault = Some(Fault::Push {
-                        push: k,
-                        object: landing.object,
-                    });
-                    break;
-                }
-            }
-            let carried = if fault.is_none() {
-                let result = executor.grasp(&draft.grasp)?;
-                fault = result.landing.map(|landing| Fault::Grasp {
-                    object: landing.object,
-                });
-                result.carried
-            } else {
-                Vec::new()
-            };
-            in_a_row = if carried.is_empty() { in_a_row + 1 } else { 0 };
-            if carried.is_empty() {
-                failed_jaws.push(draft.grasp.jaws);
-            }
-            trips.push(Trip {
-                scene: observed.to_spec(),
-                clustering: draft.clustering,
-                cluster: draft.cluster,
-                pushes: draft.pushes,
-                skipped_pushes: draft.skipped,
-                grasp: draft.grasp,
-                carried,
-                fault,
-            });
-        };
-        let seconds = run_seconds(
-            &self.settings.time_model,
-            scene.gripper(),
-            &trips,
-            failed_attempts.len(),
-        );
-        Ok((
-            Plan {
-                seconds,
-                policy: self.kind.name().to_string(),
-                executor: executor.name().to_string(),
-                seed,
-                settings: serde_json::to_value(&self.settings).unwrap_or_default(),
-                trips,
-                failed_attempts,
-                status,
-            },
-            timing,
-        ))
-    }
-
-    fn draft_single(
-        &self,
-        observed: &Scene,
-        rng: &mut SeededRng,
-        avoid: &[JawPose],
-    ) -> Result<std::result::Result<Draft, String>> {
-        let graspable: Vec<usize> = (0..observed.len())
-            .filter(|&i| observed.is_graspable(i))
-            .collect();
-        // A random object first, then the others in turn if its grasps all failed before.
-        let first = rng.index(graspable.len());
-        let order = graspable[first..].iter().chain(&graspable[..first]);
-        let mut reason = String::new();
-        for &index in order {
-            let target = observed.objects()[index].id;
-            let outcome = self.single.plan_avoiding(observed, &[target], avoid)?;
-            match outcome.value {
-                Some(grasp) => {
-                    return Ok(Ok(Draft {
-                        clustering: Clustering::default(),
-                        cluster: None,
-                        pushes: Vec::new(),
-                        skipped: Vec::new(),
-                        grasp,
-                    }));
-                }
-                None if reason.is_empty() => {
-                    reason = format!("object {target}: {}", failure_reason(&outcome.status));
-                }
-                None => {}
-            }
-            if avoid.is_empty() {
-                break;
-            }
-        }
-        Ok(Err(reason))
-    }
-
-    /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted
-    /// after the pushes offers a multi-object grasp, and every pushed object that grasp does not
-    /// take could still be taken by itself there (no object is stranded); otherwise nothing is pushed
-    /// and the cluster is grasped as it lies. Jaws where a grasp failed before are never proposed
-    /// again.
-    fn draft_clustered(
-        &self,
-        observed: &Scene,
-        rng: &mut SeededRng,
-        with_pushes: bool,
-        avoid: &[JawPose],
-        timing: &mut RunTiming,
-    ) -> Result<std::result::Result<Draft, String>> {
-        let started = Instant::now();
-        let clustering = self.clusterer.get().cluster(observed)?.value;
-        timing.clustering.push(started.elapsed().as_secs_f64());
-        let candidates: Vec<usize> = (0..clustering.len())
-            .filter(|&k| {
-                clustering.clusters[k]
-                    .iter()
-                    .filter_map(|&id| observed.index_of(id))
-                    .any(|i| observed.is_graspable(i))
-            })
-            .collect();
-        let chosen = candidates[rng.index(candidates.len())];
-        let members = clustering.clusters[chosen].clone();
-        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp| Draft {
-            clustering: clustering.clone(),
-            cluster: Some(chosen),
-            pushes,
-            skipped,
-            grasp,
-        };
-        let mut skipped = Vec::new();
-        if with_pushes && members.len() > 1 {
-            let plan = self.plan_pushes(observed, &members)?;
-            skipped = plan.skipped;
-            if !plan.pushes.is_empty() {
-                let predicted = predict(observed, &plan.pushes)?;
-                let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
-                let pushed: Vec<ObjectId> = plan.pushes.iter().map(|p| p.object).collect();
-                let outcome = self
-                    .multi
-                    .plan_after_pushes(&predicted, &members, &hints, &pushed, avoid)?;
-                if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
-                    let left: Vec<ObjectId> = pushed
-                        .iter()
-                        .copied()
-                        .filter(|id| !grasp.objects.contains(id))
-                        .collect();
-                    if self.each_has_a_fallback(&predicted, &left)? {
-                        return Ok(Ok(draft(plan.pushes, skipped, grasp)));
-                    }
-                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
-                        object,
-                        reason: SkipReason::DeadEnd,
-                    }));
-                } else {
-                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
-                        object,
-                        reason: SkipReason::NoGraspAfter,
-                    }));
-                }
-            }
-        }
-        // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
-        // opened just wider than the object, flush on an edge, not fully around it).
-        let outcome = self
-            .multi
-            .plan_after_pushes(observed, &members, &[], &[], avoid)?;
-        if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
-            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
-        }
-        let single = self.single.plan_avoiding(observed, &members, avoid)?;
-        Ok(match single.value {
-            Some(grasp) => Ok(draft(Vec::new(), skipped, grasp)),
-            None => Err(format!(
-                "cluster {:?}: {}",
-                members.iter().map(|id| id.0).collect::<Vec<_>>(),
-                failure_reason(&single.status)
-            )),
-        })
-    }
-
-    /// Whether every pushed object could still be grasped by itself on the predicted table.
-    fn each_has_a_fallback(&self, predicted: &Scene, pushed: &[ObjectId]) -> Result<bool> {
-        for &object in pushed {
-            if self.single.plan(predicted, &[object])?.value.is_none() {
-                return Ok(false);
-            }
-        }
-        Ok(true)
-    }
-}
-
-impl Policy {
-    /// Pushes for a cluster. When no row of the whole cluster can be planned (the SOCP proves it
-    /// infeasible, or no push sequence exists), or the planned row is not predicted held while a
-    /// smaller one is, the largest sub-clusters are tried, cheapest first, and the object left out is
-    /// reported as skipped to wait for a later trip.
-    fn plan_pushes(&self, observed: &Scene, members: &[ObjectId]) -> Result<PushPlan> {
-        let pusher = self.pusher.get();
-        let usable =
-            |status: &Status| !matches!(status, Status::Infeasible | Status::Failed { .. });
-        // Planners that do not judge their rows (the paper's) count as held.
-        let held = |stats: &crate::plan::Stats| stats.counter("row_held").is_none_or(|h| h > 0.5);
-        let whole = pusher.plan(observed, members)?;
-        if members.len() < 3 || (usable(&whole.status) && held(&whole.stats)) {
-            return Ok(whole.value);
-        }
-        let mut best: Option<(bool, f64, PushPlan)> = None;
-        for left_out in members {
-            let part: Vec<ObjectId> = members
-                .iter()
-                .copied()
-                .filter(|id| id != left_out)
-                .collect();
-            let sub = pusher.plan(observed, &part)?;
-            if !usable(&sub.status) {
-                continue;
-            }
-            let (is_held, cost) = (
-                held(&sub.stats),
-                sub.stats.objective.unwrap_or(f64::INFINITY),
-            );
-            let better = best
-                .as_ref()
-                .is_none_or(|(h, c, _)| (is_held && !*h) || (is_held == *h && cost < *c));
-            if better {
-                let mut plan = sub.value;
-                plan.skipped.push(SkippedPush {
-                    object: *left_out,
-                    reason: SkipReason::NoRow,
-                });
-                best = Some((is_held, cost, plan));
-            }
-        }
-        Ok(match best {
-            Some((true, _, plan)) => plan,
-            Some((false, _, plan)) if !usable(&whole.status) => plan,
-            _ => whole.value,
-        })
-    }
-}
-
-/// Robot time of a run by the time model: every trip as planned (a trip stopped by a landing is
-/// charged in full, a stand-in for recovering from it) and an observation before every trip and
-/// every planning attempt that found nothing, seconds.
-pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed: usize) -> f64 {
-    let trips_seconds: f64 = trips
-        .iter()
-        .map(|trip| {
-            let pushes: Vec<PushPath> = trip
-                .pushes
-                .iter()
-                .map(|p| PushPath {
-                    approach: p.fork.approach,
-                    end: p.fork.end,
-                })
-                .collect();
-            let grasp = GraspPath {
-                center: trip.grasp.jaws.center,
-                opening: trip.grasp.jaws.opening,
-                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
-            };
-            model.trip_seconds(gripper, &pushes, &grasp)
-        })
-        .sum();
-    trips_seconds + model.observation * (trips.len() + failed) as f64
-}
-
-fn failure_reason(status: &Status) -> String {
-    match status {
-        Status::Failed { reason } => reason.clone(),
-        other => format!("{other:?}"),
+        let mut run = Run::start(self, scene, executor, seed)?;
+        while run.step(executor)?.is_none() {}
+        Ok(run.finish())
     }
 }

@@ -20,7 +20,7 @@ use super::fork::{ForkSettings, plan_fork};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, cast_distance};
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
 
 /// Settings of [`TowardCentral`].
@@ -29,9 +29,13 @@ use crate::scene::{ObjectId, Pose, Scene};
 pub struct TowardCentralSettings {
     /// Gap left between a pushed object and the first object it would touch, metres. Default 0.002.
     pub stop_gap: f64,
-    /// Pushes shorter than this are not made, metres. Default 0.003.
+    /// Pushes shorter than this are not made, metres. Default 0.003. In a policy's settings it is
+    /// set once for every stage (`PolicySettings::min_push`).
+    #[serde(skip)]
     pub min_push: f64,
-    /// Fork-push geometry.
+    /// Fork-push geometry. In a policy's settings it is set once for every stage
+    /// (`PolicySettings::fork`).
+    #[serde(skip)]
     pub fork: ForkSettings,
 }
 

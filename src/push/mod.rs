@@ -9,7 +9,6 @@
 //! targets, as the paper does to plan the grasp before executing the pushes.
 
 mod central;
-mod compare;
 pub mod fork;
 mod predict;
 mod row;
@@ -19,11 +18,10 @@ use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::plan::Outcome;
+use crate::outcome::Outcome;
 use crate::scene::{ObjectId, Pose, Scene};
 
 pub use central::{TowardCentral, TowardCentralSettings};
-pub use compare::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
 pub use fork::{ForkPush, ForkSettings, push_height};
 pub use predict::predict;
 pub use socp::{Socp, SocpSettings};
@@ -129,6 +127,10 @@ pub struct PushPlan {
     pub skipped: Vec<SkippedPush>,
     /// The grasp the pushes arrange the objects for, when the planner knows it.
     pub intended_grasp: Option<crate::grasp::JawPose>,
+    /// Whether the planner's grasp model predicts the row held at the intended grasp (`None` for
+    /// planners that do not judge their rows, such as the paper's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub row_held: Option<bool>,
 }
 
 /// A way to plan the pushes that bring one cluster together.

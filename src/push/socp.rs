@@ -19,7 +19,7 @@
 //! the cheapest held row found. Without a held row (or without the preference), the cheapest row that
 //! can be pushed into place is taken, visiting axes by bound until none can beat it. For three or more
 //! members, the other orders along the chosen axis are tried too (up to `max_orders`). The answer is
-//! the cheapest held row if there is one, else the cheapest row; `row_held` in the statistics says
+//! the cheapest held row if there is one, else the cheapest row; `PushPlan::row_held` says
 //! which. No row on any axis: [`Status::Infeasible`]; rows but no push sequence: a failed status.
 //!
 //! Objects outside the cluster are kept clear by fixed half-planes: the line of largest separation
@@ -40,7 +40,7 @@ use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
 use crate::grasp::{Body, GraspModel, JawPose, Squeeze, squeeze, squeeze_bodies};
-use crate::plan::{Outcome, Stats, Status};
+use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
 
 /// Settings of [`Socp`].
@@ -69,15 +69,20 @@ pub struct SocpSettings {
     pub clearance: f64,
     /// Outside objects further than this from every member are ignored, metres. Default 0.15.
     pub neighbourhood: f64,
-    /// Moves shorter than this are not made, metres. Default 0.003.
+    /// Moves shorter than this are not made, metres. Default 0.003. In a policy's settings it is set
+    /// once for every stage (`PolicySettings::min_push`).
+    #[serde(skip)]
     pub min_push: f64,
     /// Among rows that can be pushed into place, take the cheapest one the grasp model predicts held
     /// (the cheapest of all when none is). Default true.
     pub prefer_held_rows: bool,
 
-    /// The grasp model that judges rows.
+    /// The grasp model that judges rows. In a policy's settings it is set once for every stage
+    /// (`PolicySettings::grasp_model`).
+    #[serde(skip)]
     pub model: GraspModel,
-    /// Fork-push geometry.
+    /// Fork-push geometry. In a policy's settings it is set once (`PolicySettings::fork`).
+    #[serde(skip)]
     pub fork: ForkSettings,
 }
 
@@ -557,6 +562,7 @@ impl PushPlanner for Socp {
                     pushes,
                     skipped,
                     intended_grasp: Some(jaws),
+                    row_held: Some(held),
                 },
                 held,
                 objective,
@@ -666,10 +672,12 @@ impl PushPlanner for Socp {
         if let Some((k, _)) = cheapest(&attempts, held_found) {
             let chosen = attempts.swap_remove(k);
             counters.push(("axis".to_string(), chosen.axis.y.atan2(chosen.axis.x)));
-            counters.push(("row_held".to_string(), if chosen.held { 1.0 } else { 0.0 }));
+            let plan = chosen.plan;
+            // Each row is optimal for its axis and order; over the axes and orders sampled, the
+            // cheapest is the best found.
             return Ok(finish(
-                chosen.plan,
-                Status::Optimal,
+                plan,
+                Status::BestFound,
                 Some(format!("clarabel: {:?}", chosen.status)),
                 counters,
             ));
@@ -697,6 +705,7 @@ impl PushPlanner for Socp {
                 pushes: Vec::new(),
                 skipped,
                 intended_grasp: None,
+                row_held: None,
             },
             status,
             Some(format!("clarabel: {:?}", last_status.get())),

@@ -9,10 +9,12 @@
 mod figure;
 mod plan;
 mod svg;
+mod tool_path;
 
 pub use figure::{Figure, OBJECT_FILL, OBJECT_STROKE, RenderOptions, UNGRASPABLE_STROKE};
 pub use plan::{plan_svg, replay_html, trip_colour, trip_svg};
 pub use svg::{Canvas, Style};
+pub use tool_path::tool_path_svg;
 
 use crate::scene::Scene;
 

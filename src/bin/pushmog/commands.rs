@@ -3,18 +3,15 @@
 use std::io::Read as _;
 use std::path::Path;
 
-use pushmog::cluster::{
-    Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
-    compare_clustering as compare, comparison_markdown,
-};
+use pushmog::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
 use pushmog::error::{Error, Result};
-use pushmog::exec::{Executor, Ideal, Sim, SimSettings};
+use pushmog::exec::{Executor, Sim, SimSettings};
 use pushmog::experiment::agreement::{
     AgreementSettings, agreement_markdown, agreement_svg, replay_grasps,
 };
 use pushmog::experiment::{
-    ExperimentConfig, Log, RunnerOptions, merge_logs, read_log, run_experiment, write_log,
-    write_report,
+    ExperimentConfig, Log, RunnerOptions, compare_clustering as compare, comparison_markdown,
+    merge_logs, read_log, run_experiment, write_log, write_report,
 };
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, RunStatus, verify as verify_plan};
@@ -151,7 +148,7 @@ fn executor(
     sim: Option<(SimSettings, u64)>,
 ) -> Result<Box<dyn Executor>> {
     match (name, sim) {
-        ("ideal", _) => Ok(Box::new(Ideal::new(policy.settings().multi.model.clone()))),
+        ("ideal", _) => Ok(Box::new(policy.ideal())),
         ("sim", Some((settings, seed))) => Ok(Box::new(Sim::new(settings, seed)?)),
         ("sim", None) => Ok(Box::new(Sim::new(SimSettings::default(), 0)?)),
         (other, _) => Err(Error::field(
@@ -392,7 +389,7 @@ pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
         args.seed,
         args.seed + args.scenes as u64
     );
-    let rows = pushmog::push::compare_pushing(
+    let rows = pushmog::experiment::compare_pushing(
         &GeneratorSettings::default(),
         &builtin_object_set(),
         &settings.clustering,
@@ -401,7 +398,7 @@ pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
         args.scenes,
         args.seed,
     )?;
-    print!("{}", pushmog::push::push_comparison_markdown(&rows));
+    print!("{}", pushmog::experiment::push_comparison_markdown(&rows));
     Ok(())
 }
 
@@ -632,7 +629,7 @@ pub fn demo(out: &Path, seed: u64) -> Result<()> {
     let mut written = Vec::new();
     for kind in PolicyKind::ALL {
         let policy = Policy::new(kind, PolicySettings::default())?;
-        let plan = policy.run(&scene, &mut Ideal::default(), seed)?;
+        let plan = policy.run(&scene, &mut policy.ideal(), seed)?;
         let violations = verify_plan(&plan).len();
         println!(
             "| {kind} | {} | {:.3} | {} | {:.3} | {} |",

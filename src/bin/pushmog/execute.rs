@@ -3,10 +3,9 @@
 use std::path::Path;
 
 use pushmog::error::{Error, Result};
-use pushmog::exec::Ideal;
 use pushmog::exec::ur5::{
     DryRun, Live, Observation, RobotConfig, Step, StepRunner, Translator, Ur5, execute_plan,
-    listing, plan_steps, step_list, tool_path_svg,
+    listing, plan_steps, step_list,
 };
 use pushmog::json;
 use pushmog::plan::Plan;
@@ -38,7 +37,10 @@ fn write_dry_run(
     let mut written = vec![script.display().to_string(), list.display().to_string()];
     if let Some(scene) = scene {
         let drawing = out.join("tool-path.svg");
-        json::write_text(&drawing, &tool_path_svg(translator, scene, steps))?;
+        json::write_text(
+            &drawing,
+            &pushmog::render::tool_path_svg(translator, scene, steps),
+        )?;
         written.push(drawing.display().to_string());
     }
     let motions = steps
@@ -149,7 +151,7 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
             } else {
                 // Nothing moves in a dry run, so the table would never change: plan the whole run
                 // with the ideal executor and show what the robot would be sent.
-                let mut ideal = Ideal::new(policy.settings().multi.model.clone());
+                let mut ideal = policy.ideal();
                 let plan = policy.run(&scene, &mut ideal, args.seed)?;
                 let mut runner = StepRunner::new(translator, DryRun::default());
                 execute_plan(&mut runner, &plan)?;

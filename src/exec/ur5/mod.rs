@@ -23,7 +23,6 @@ pub mod fake;
 mod link;
 mod motion;
 mod rtde;
-mod tool_path;
 mod urscript;
 
 use std::path::PathBuf;
@@ -38,7 +37,6 @@ pub use config::{
 pub use link::{DryRun, Fault, Live, RobotLink};
 pub use motion::{Action, LinearMove, Phase, Step, ToolPose, Translator, move_duration};
 pub use rtde::RobotState;
-pub use tool_path::tool_path_svg;
 pub use urscript::{gripper_command, gripper_line, listing, motion_program, program, step_list};
 
 use crate::error::{Error, Result};

@@ -10,13 +10,13 @@
 
 use std::fmt::Write as _;
 
-use super::{
-    PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, TowardCentralSettings, predict,
-};
 use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings};
 use crate::error::Result;
 use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
-use crate::plan::Status;
+use crate::outcome::Status;
+use crate::push::{
+    PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, TowardCentralSettings, predict,
+};
 use crate::scene::{GeneratorSettings, ObjectId, ObjectSet, Scene, generate_scene};
 
 /// One planner's figures on one scene.

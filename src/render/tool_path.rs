@@ -3,8 +3,8 @@
 
 use nalgebra::Point2;
 
-use super::motion::{Action, Phase, Step, Translator};
-use crate::render::{Canvas, Style};
+use super::{Canvas, Style};
+use crate::exec::ur5::{Action, Phase, Step, Translator};
 use crate::scene::Scene;
 
 /// The SVG drawing of `steps` over `scene` (its objects drawn through the calibration).

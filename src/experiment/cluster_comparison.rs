@@ -7,10 +7,12 @@
 
 use std::fmt::Write as _;
 
-use super::objective::{ClusterObjective, CostModel, centroid_diameter};
-use super::{Clusterer, Hierarchical, Milp, MilpSettings};
+use crate::cluster::{
+    ClusterObjective, Clusterer, CostModel, Hierarchical, Milp, MilpSettings, centroid_diameter,
+};
 use crate::error::Result;
-use crate::plan::{Status, verify_clustering};
+use crate::outcome::Status;
+use crate::plan::verify_clustering;
 use crate::scene::{GeneratorSettings, ObjectSet, generate_scene};
 
 /// One scene's figures.

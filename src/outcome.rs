@@ -10,10 +10,15 @@ pub enum Status {
     Heuristic,
     /// Proven optimal for the stated model.
     Optimal,
+    /// The best of a search over a sampled set of choices (axes, orders), each solved to its own
+    /// optimum: no claim over the choices not sampled.
+    BestFound,
     /// Valid, with a gap to the best bound.
     Feasible,
     /// The time limit ended the search; the answer is the best found.
     TimeLimit,
+    /// The node limit ended the search; the answer is the best found.
+    NodeLimit,
     /// No valid answer exists for the stated model.
     Infeasible,
     /// The planner could not produce an answer; the reason says why.

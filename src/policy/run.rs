@@ -1,0 +1,251 @@
+//! The closed loop (the paper's Algorithm 1) as a small driver over [`Policy::plan_trip_with`] and an
+//! [`Executor`]: observe, plan one trip, push, grasp, record, until the table is clear or a typed stop
+//! reason ends the run. It never loops forever: it stops when the table is clear, when nothing left
+//! can be planned for (toppled, outside), when every object left is wider than the jaw gap, after
+//! `max_failed_attempts` fruitless attempts in a row, or at the trip limit.
+//!
+//! An attempt that yields no grasp is recorded with its reason and costs no trip; a grasp that
+//! carries nothing is a trip (a failed grasp). [`Run::record`] gives the record so far at any moment,
+//! so a caller whose executor failed keeps every trip made.
+
+use std::time::Instant;
+
+use super::trip::TripContext;
+use super::{Policy, TimeModel};
+use crate::error::Result;
+use crate::exec::Executor;
+use crate::plan::{Fault, Plan, RunStatus, StopReason, Trip};
+use crate::scene::{Gripper, ObjectId, Scene};
+use crate::time_model::{GraspPath, PushPath};
+
+/// Wall-clock planning times of one run, seconds.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunTiming {
+    /// Every planning attempt (clustering, pushes and grasp together).
+    pub planning: Vec<f64>,
+    /// Every clustering.
+    pub clustering: Vec<f64>,
+}
+
+/// A closed-loop run under way.
+#[derive(Debug)]
+pub struct Run<'a> {
+    policy: &'a Policy,
+    gripper: Gripper,
+    seed: u64,
+    executor: &'static str,
+    context: TripContext,
+    max_trips: usize,
+    in_a_row: usize,
+    trips: Vec<Trip>,
+    failed_attempts: Vec<String>,
+    timing: RunTiming,
+    status: Option<RunStatus>,
+}
+
+impl<'a> Run<'a> {
+    /// Resets `executor` to `scene` and starts a run; `seed` drives the random choices (which object
+    /// or cluster next).
+    ///
+    /// # Errors
+    /// An executor fault.
+    pub fn start(
+        policy: &'a Policy,
+        scene: &Scene,
+        executor: &mut dyn Executor,
+        seed: u64,
+    ) -> Result<Self> {
+        executor.reset(scene)?;
+        let limit = policy.settings().run.max_trips_per_object * scene.len() as f64;
+        Ok(Self {
+            policy,
+            gripper: scene.gripper().clone(),
+            seed,
+            executor: executor.name(),
+            context: TripContext::new(seed),
+            max_trips: (limit.ceil() as usize).max(1),
+            in_a_row: 0,
+            trips: Vec::new(),
+            failed_attempts: Vec::new(),
+            timing: RunTiming::default(),
+            status: None,
+        })
+    }
+
+    /// One observation and what follows it: a trip, a planning attempt that found nothing, or the
+    /// end of the run. Returns the final status once the run has ended (and then does nothing).
+    ///
+    /// # Errors
+    /// An executor fault; the record so far stays available through [`Run::record`].
+    pub fn step(&mut self, executor: &mut dyn Executor) -> Result<Option<&RunStatus>> {
+        if self.status.is_some() {
+            return Ok(self.status.as_ref());
+        }
+        let observed = executor.observe()?;
+        let lost = executor.lost();
+        if let Some(reason) = self.stop_reason(&observed, &lost) {
+            let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
+            remaining.extend(lost.iter().map(|(id, _)| *id));
+            self.status = Some(match reason {
+                None => RunStatus::Cleared,
+                Some(reason) => RunStatus::Stopped { remaining, reason },
+            });
+            return Ok(self.status.as_ref());
+        }
+        let started = Instant::now();
+        let planned = self.policy.plan_trip_with(&observed, &mut self.context)?;
+        self.timing.planning.push(started.elapsed().as_secs_f64());
+        if let Some(seconds) = planned.stats.counter("clustering_seconds") {
+            self.timing.clustering.push(seconds);
+        }
+        let Some(trip) = planned.value else {
+            self.failed_attempts
+                .push(super::trip::failure_reason(&planned.status));
+            self.in_a_row += 1;
+            return Ok(None);
+        };
+        let mut fault = None;
+        for (k, push) in trip.pushes.iter().enumerate() {
+            if let Some(landing) = executor.push(push)? {
+                fault = Some(Fault::Push {
+                    push: k,
+                    object: landing.object,
+                });
+                break;
+            }
+        }
+        let carried = if fault.is_none() {
+            let result = executor.grasp(&trip.grasp)?;
+            fault = result.landing.map(|landing| Fault::Grasp {
+                object: landing.object,
+            });
+            result.carried
+        } else {
+            Vec::new()
+        };
+        if carried.is_empty() {
+            self.in_a_row += 1;
+            self.context.failed.push(trip.grasp.jaws);
+        } else {
+            self.in_a_row = 0;
+        }
+        self.trips.push(Trip {
+            scene: observed.to_spec(),
+            clustering: trip.clustering,
+            cluster: trip.cluster,
+            pushes: trip.pushes,
+            skipped_pushes: trip.skipped_pushes,
+            grasp: trip.grasp,
+            carried,
+            fault,
+        });
+        Ok(None)
+    }
+
+    /// `Some(None)` when the table is clear, `Some(Some(reason))` when the run must stop, `None` to
+    /// go on.
+    fn stop_reason(
+        &self,
+        observed: &Scene,
+        lost: &[(ObjectId, &'static str)],
+    ) -> Option<Option<StopReason>> {
+        if observed.is_empty() {
+            if lost.is_empty() {
+                return Some(None);
+            }
+            let mut reasons: Vec<&str> = lost.iter().map(|(_, why)| *why).collect();
+            reasons.sort_unstable();
+            reasons.dedup();
+            let lost = reasons
+                .iter()
+                .map(|why| {
+                    (
+                        why.to_string(),
+                        lost.iter().filter(|(_, w)| w == why).count(),
+                    )
+                })
+                .collect();
+            return Some(Some(StopReason::NothingPlannable { lost }));
+        }
+        if observed.ungraspable().len() == observed.len() {
+            return Some(Some(StopReason::AllTooWide));
+        }
+        if self.in_a_row >= self.policy.settings().run.max_failed_attempts {
+            return Some(Some(StopReason::FailedAttempts {
+                count: self.in_a_row,
+            }));
+        }
+        if self.trips.len() >= self.max_trips {
+            return Some(Some(StopReason::TripLimit {
+                limit: self.max_trips,
+            }));
+        }
+        None
+    }
+
+    /// The record so far: every trip made and every fruitless attempt, with the final status once
+    /// the run has ended (until then, stopped as interrupted).
+    pub fn record(&self) -> Plan {
+        let status = self.status.clone().unwrap_or_else(|| RunStatus::Stopped {
+            remaining: self
+                .trips
+                .last()
+                .map(|t| t.scene.objects.iter().map(|o| o.id).collect())
+                .unwrap_or_default(),
+            reason: StopReason::Interrupted,
+        });
+        let settings = self.policy.settings();
+        Plan {
+            seconds: run_seconds(
+                &settings.time_model,
+                &self.gripper,
+                &self.trips,
+                self.failed_attempts.len(),
+            ),
+            policy: self.policy.kind().name().to_string(),
+            executor: self.executor.to_string(),
+            seed: self.seed,
+            settings: serde_json::to_value(settings).unwrap_or_default(),
+            trips: self.trips.clone(),
+            failed_attempts: self.failed_attempts.clone(),
+            status,
+        }
+    }
+
+    /// The wall-clock planning times so far.
+    pub fn timing(&self) -> &RunTiming {
+        &self.timing
+    }
+
+    /// The record and the planning times, ending the run.
+    pub fn finish(self) -> (Plan, RunTiming) {
+        let plan = self.record();
+        (plan, self.timing)
+    }
+}
+
+/// Robot time of a run by the time model: every trip as planned (a trip stopped by a landing is
+/// charged in full, a stand-in for recovering from it) and an observation before every trip and
+/// every planning attempt that found nothing, seconds.
+pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed: usize) -> f64 {
+    let trips_seconds: f64 = trips
+        .iter()
+        .map(|trip| {
+            let pushes: Vec<PushPath> = trip
+                .pushes
+                .iter()
+                .map(|p| PushPath {
+                    approach: p.fork.approach,
+                    end: p.fork.end,
+                })
+                .collect();
+            let grasp = GraspPath {
+                center: trip.grasp.jaws.center,
+                opening: trip.grasp.jaws.opening,
+                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
+            };
+            model.trip_seconds(gripper, &pushes, &grasp)
+        })
+        .sum();
+    trips_seconds + model.observation * (trips.len() + failed) as f64
+}

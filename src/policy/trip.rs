@@ -1,0 +1,312 @@
+//! Planning one trip: the paper's Algorithm 1 without its loop. [`Policy::plan_trip`] plans from the
+//! scene it is given and nothing else, so a robot stack, a Python loop or another simulator can drive
+//! it; [`Policy::plan_trip_with`] also carries what a run remembers between trips ([`TripContext`]:
+//! the random stream that picks the next object or cluster, and where grasps failed).
+//!
+//! - `sog`: a graspable object at random, grasped alone ([`SingleObject`]); if its grasps all failed
+//!   before, the next one.
+//! - the clustering policies: cluster, pick a cluster at random; with pushes, plan them and predict the
+//!   table after them; push only if a multi-object grasp follows there and no pushed object is
+//!   stranded; otherwise grasp the cluster as it lies (several objects, else one by itself).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::{Policy, PolicyKind};
+use crate::cluster::Clustering;
+use crate::error::Result;
+use crate::grasp::{Grasp, GraspPlanner, JawPose};
+use crate::outcome::{Outcome, Stats, Status};
+use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
+use crate::random::SeededRng;
+use crate::scene::{ObjectId, Scene};
+
+/// The next trip: what to push, then where to grasp.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TripPlan {
+    /// The clustering of the scene (empty for policies that do not cluster).
+    pub clustering: Clustering,
+    /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
+    pub cluster: Option<usize>,
+    /// The fork pushes, in execution order.
+    pub pushes: Vec<Push>,
+    /// Pushes that were not planned or not made, with their reasons.
+    pub skipped_pushes: Vec<SkippedPush>,
+    /// The grasp, planned on the scene predicted after the pushes.
+    pub grasp: Grasp,
+}
+
+/// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
+/// and the jaw poses where grasps carried nothing (never proposed again).
+#[derive(Clone, Debug)]
+pub struct TripContext {
+    rng: SeededRng,
+    /// Jaw poses of grasps that carried nothing.
+    pub failed: Vec<JawPose>,
+}
+
+impl TripContext {
+    /// A fresh context; `seed` drives the random choices.
+    pub fn new(seed: u64) -> Self {
+        Self {
+            rng: SeededRng::new(seed),
+            failed: Vec::new(),
+        }
+    }
+}
+
+impl Policy {
+    /// Plans the next trip on `scene` as it is, with a fresh [`TripContext`] of seed 0: the pushes
+    /// and the grasp, or (value `None`, status [`Status::Failed`]) why there is none.
+    ///
+    /// # Errors
+    /// Misuse only (invalid settings are refused when the policy is built).
+    pub fn plan_trip(&self, scene: &Scene) -> Result<Outcome<Option<TripPlan>>> {
+        self.plan_trip_with(scene, &mut TripContext::new(0))
+    }
+
+    /// As [`Policy::plan_trip`], drawing the random choice from `context` and avoiding the grasps
+    /// that failed in it. Clustering time is in the counter `clustering_seconds`.
+    ///
+    /// # Errors
+    /// As [`Policy::plan_trip`].
+    pub fn plan_trip_with(
+        &self,
+        scene: &Scene,
+        context: &mut TripContext,
+    ) -> Result<Outcome<Option<TripPlan>>> {
+        let started = Instant::now();
+        let mut clustering_seconds = None;
+        let drafted = if scene.is_empty() {
+            Err("the table is empty".to_string())
+        } else {
+            match self.kind {
+                PolicyKind::Sog => self.draft_single(scene, &mut context.rng, &context.failed)?,
+                kind => self.draft_clustered(
+                    scene,
+                    &mut context.rng,
+                    kind.pushes(),
+                    &context.failed,
+                    &mut clustering_seconds,
+                )?,
+            }
+        };
+        let mut counters = Vec::new();
+        if let Some(seconds) = clustering_seconds {
+            counters.push(("clustering_seconds".to_string(), seconds));
+        }
+        let stats = Stats {
+            seconds: started.elapsed().as_secs_f64(),
+            counters,
+            ..Stats::default()
+        };
+        Ok(match drafted {
+            Ok(trip) => Outcome {
+                value: Some(trip),
+                status: Status::Heuristic,
+                stats,
+            },
+            Err(reason) => Outcome {
+                value: None,
+                status: Status::Failed { reason },
+                stats,
+            },
+        })
+    }
+
+    fn draft_single(
+        &self,
+        observed: &Scene,
+        rng: &mut SeededRng,
+        avoid: &[JawPose],
+    ) -> Result<std::result::Result<TripPlan, String>> {
+        let graspable: Vec<usize> = (0..observed.len())
+            .filter(|&i| observed.is_graspable(i))
+            .collect();
+        if graspable.is_empty() {
+            return Ok(Err("no object narrower than the jaw gap".to_string()));
+        }
+        // A random object first, then the others in turn if its grasps all failed before.
+        let first = rng.index(graspable.len());
+        let order = graspable[first..].iter().chain(&graspable[..first]);
+        let mut reason = String::new();
+        for &index in order {
+            let target = observed.objects()[index].id;
+            let outcome = self.single.plan_avoiding(observed, &[target], avoid)?;
+            match outcome.value {
+                Some(grasp) => {
+                    return Ok(Ok(TripPlan {
+                        clustering: Clustering::default(),
+                        cluster: None,
+                        pushes: Vec::new(),
+                        skipped_pushes: Vec::new(),
+                        grasp,
+                    }));
+                }
+                None if reason.is_empty() => {
+                    reason = format!("object {target}: {}", failure_reason(&outcome.status));
+                }
+                None => {}
+            }
+            if avoid.is_empty() {
+                break;
+            }
+        }
+        Ok(Err(reason))
+    }
+
+    /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted
+    /// after the pushes offers a multi-object grasp, and every pushed object that grasp does not
+    /// take could still be taken by itself there (no object is stranded); otherwise nothing is pushed
+    /// and the cluster is grasped as it lies. Jaws where a grasp failed before are never proposed
+    /// again.
+    fn draft_clustered(
+        &self,
+        observed: &Scene,
+        rng: &mut SeededRng,
+        with_pushes: bool,
+        avoid: &[JawPose],
+        clustering_seconds: &mut Option<f64>,
+    ) -> Result<std::result::Result<TripPlan, String>> {
+        let started = Instant::now();
+        let clustering = self.clusterer.get().cluster(observed)?.value;
+        *clustering_seconds = Some(started.elapsed().as_secs_f64());
+        let candidates: Vec<usize> = (0..clustering.len())
+            .filter(|&k| {
+                clustering.clusters[k]
+                    .iter()
+                    .filter_map(|&id| observed.index_of(id))
+                    .any(|i| observed.is_graspable(i))
+            })
+            .collect();
+        if candidates.is_empty() {
+            return Ok(Err(
+                "no cluster with an object narrower than the jaw gap".to_string()
+            ));
+        }
+        let chosen = candidates[rng.index(candidates.len())];
+        let members = clustering.clusters[chosen].clone();
+        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp| TripPlan {
+            clustering: clustering.clone(),
+            cluster: Some(chosen),
+            pushes,
+            skipped_pushes: skipped,
+            grasp,
+        };
+        let mut skipped = Vec::new();
+        if with_pushes && members.len() > 1 {
+            let plan = self.plan_pushes(observed, &members)?;
+            skipped = plan.skipped;
+            if !plan.pushes.is_empty() {
+                let predicted = predict(observed, &plan.pushes)?;
+                let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
+                let pushed: Vec<ObjectId> = plan.pushes.iter().map(|p| p.object).collect();
+                let outcome = self
+                    .multi
+                    .plan_after_pushes(&predicted, &members, &hints, &pushed, avoid)?;
+                if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
+                    let left: Vec<ObjectId> = pushed
+                        .iter()
+                        .copied()
+                        .filter(|id| !grasp.objects.contains(id))
+                        .collect();
+                    if self.each_has_a_fallback(&predicted, &left)? {
+                        return Ok(Ok(draft(plan.pushes, skipped, grasp)));
+                    }
+                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
+                        object,
+                        reason: SkipReason::DeadEnd,
+                    }));
+                } else {
+                    skipped.extend(pushed.iter().map(|&object| SkippedPush {
+                        object,
+                        reason: SkipReason::NoGraspAfter,
+                    }));
+                }
+            }
+        }
+        // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
+        // opened just wider than the object, flush on an edge, not fully around it).
+        let outcome = self
+            .multi
+            .plan_after_pushes(observed, &members, &[], &[], avoid)?;
+        if let Some(grasp) = outcome.value.filter(|g| g.objects.len() >= 2) {
+            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
+        }
+        let single = self.single.plan_avoiding(observed, &members, avoid)?;
+        Ok(match single.value {
+            Some(grasp) => Ok(draft(Vec::new(), skipped, grasp)),
+            None => Err(format!(
+                "cluster {:?}: {}",
+                members.iter().map(|id| id.0).collect::<Vec<_>>(),
+                failure_reason(&single.status)
+            )),
+        })
+    }
+
+    /// Whether every pushed object could still be grasped by itself on the predicted table.
+    fn each_has_a_fallback(&self, predicted: &Scene, pushed: &[ObjectId]) -> Result<bool> {
+        for &object in pushed {
+            if self.single.plan(predicted, &[object])?.value.is_none() {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Pushes for a cluster. When no row of the whole cluster can be planned (the SOCP proves it
+    /// infeasible, or no push sequence exists), or the planned row is not predicted held while a
+    /// smaller one is, the largest sub-clusters are tried, cheapest first, and the object left out is
+    /// reported as skipped to wait for a later trip.
+    fn plan_pushes(&self, observed: &Scene, members: &[ObjectId]) -> Result<PushPlan> {
+        let pusher = self.pusher.get();
+        let usable =
+            |status: &Status| !matches!(status, Status::Infeasible | Status::Failed { .. });
+        // Planners that do not judge their rows (the paper's) count as held.
+        let held = |plan: &PushPlan| plan.row_held != Some(false);
+        let whole = pusher.plan(observed, members)?;
+        if members.len() < 3 || (usable(&whole.status) && held(&whole.value)) {
+            return Ok(whole.value);
+        }
+        let mut best: Option<(bool, f64, PushPlan)> = None;
+        for left_out in members {
+            let part: Vec<ObjectId> = members
+                .iter()
+                .copied()
+                .filter(|id| id != left_out)
+                .collect();
+            let sub = pusher.plan(observed, &part)?;
+            if !usable(&sub.status) {
+                continue;
+            }
+            let (is_held, cost) = (
+                held(&sub.value),
+                sub.stats.objective.unwrap_or(f64::INFINITY),
+            );
+            let better = best
+                .as_ref()
+                .is_none_or(|(h, c, _)| (is_held && !*h) || (is_held == *h && cost < *c));
+            if better {
+                let mut plan = sub.value;
+                plan.skipped.push(SkippedPush {
+                    object: *left_out,
+                    reason: SkipReason::NoRow,
+                });
+                best = Some((is_held, cost, plan));
+            }
+        }
+        Ok(match best {
+            Some((true, _, plan)) => plan,
+            Some((false, _, plan)) if !usable(&whole.status) => plan,
+            _ => whole.value,
+        })
+    }
+}
+
+pub(super) fn failure_reason(status: &Status) -> String {
+    match status {
+        Status::Failed { reason } => reason.clone(),
+        other => format!("{other:?}"),
+    }
+}
