@@ -31,6 +31,7 @@
 pub mod cluster;
 pub mod error;
 pub mod exec;
+#[cfg(feature = "experiment")]
 pub mod experiment;
 pub mod geometry;
 pub mod grasp;
@@ -43,7 +44,13 @@ pub mod push;
 pub mod random;
 pub mod render;
 pub mod scene;
+pub mod stats;
 pub mod time_model;
 
 pub use error::{Error, Result};
 pub use scene::Scene;
+
+/// The README's code, run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

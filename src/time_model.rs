@@ -103,6 +103,18 @@ enum Command {
     Jaws(f64),
 }
 
+/// Seconds of a straight move of `distance` metres with a trapezoidal speed profile of top speed `v`
+/// (m/s) and acceleration `a` (m/s²): `d/v + v/a` when `d ≥ v²/a`, else `2√(d/a)`; 0 for no distance.
+pub fn trapezoid_seconds(distance: f64, v: f64, a: f64) -> f64 {
+    if distance <= 0.0 {
+        0.0
+    } else if distance >= v * v / a {
+        distance / v + v / a
+    } else {
+        2.0 * (distance / a).sqrt()
+    }
+}
+
 /// A fork push as the time model sees it: where the fingers are lowered and where they rise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PushPath {
@@ -156,14 +168,7 @@ impl TimeModel {
 
     /// Seconds of the motion of a straight arm move of `distance` metres (no settle time).
     pub fn move_seconds(&self, distance: f64) -> f64 {
-        let (v, a) = (self.travel_speed, self.travel_acceleration);
-        if distance <= 0.0 {
-            0.0
-        } else if distance >= v * v / a {
-            distance / v + v / a
-        } else {
-            2.0 * (distance / a).sqrt()
-        }
+        trapezoid_seconds(distance, self.travel_speed, self.travel_acceleration)
     }
 
     fn seconds(&self, commands: &[Command]) -> f64 {

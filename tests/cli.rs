@@ -216,6 +216,7 @@ fn schemas_are_json_and_describe_the_fields() {
         ("object-set", "objects"),
         ("policy", "socp"),
         ("sim", "grip_force"),
+        ("plan", "trips"),
     ] {
         let output = pushmog(&["schema", format]);
         assert_eq!(output.status.code(), Some(0));

@@ -1,6 +1,7 @@
 //! Integration tests of pushmog: one test binary, one module per subject.
 #![allow(clippy::unwrap_used)]
 
+mod architecture;
 mod baselines;
 mod cli;
 mod clustering_milp;

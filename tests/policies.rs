@@ -161,3 +161,55 @@ fn stranded_bars_are_cleared_without_identical_retries() {
         }
     }
 }
+
+/// A robot stack that owns its loop: it asks `plan_trip_with` for each trip, carries it out its own
+/// way (pushes exactly, grasps as the grasp model says), and its camera sees the table again with
+/// 1 mm and 0.6° of noise. The table is cleared, and every trip it was given verifies.
+#[test]
+fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
+    use pushmog::exec::Executor;
+    use pushmog::plan::{Trip, verify_trip};
+    use pushmog::policy::TripContext;
+    use pushmog::random::SeededRng;
+    use pushmog::scene::perturb;
+    let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let mut table = scene(3);
+    let mut context = TripContext::new(5);
+    let mut camera = SeededRng::new(9);
+    let mut trips = 0;
+    while !table.is_empty() {
+        assert!(trips < 100, "the loop does not end");
+        let trip = policy
+            .plan_trip_with(&table, &mut context)
+            .unwrap()
+            .value
+            .expect("a trip for a non-empty table");
+        let mut robot = policy.ideal();
+        robot.reset(&table).unwrap();
+        for push in &trip.pushes {
+            robot.push(push).unwrap();
+        }
+        let carried = robot.grasp(&trip.grasp).unwrap().carried;
+        if carried.is_empty() {
+            context.failed.push(trip.grasp.jaws);
+        }
+        let record = Trip {
+            scene: table.to_spec(),
+            clustering: trip.clustering,
+            cluster: trip.cluster,
+            pushes: trip.pushes,
+            skipped_pushes: trip.skipped_pushes,
+            grasp: trip.grasp,
+            carried,
+            fault: None,
+        };
+        assert!(
+            verify_trip(&record).is_empty(),
+            "{:?}",
+            verify_trip(&record)
+        );
+        table = perturb(&robot.observe().unwrap(), &mut camera, 0.001, 0.01).unwrap();
+        trips += 1;
+    }
+    println!("cleared in {trips} trips");
+}

@@ -32,7 +32,7 @@ pub use separability::{repair_separability, separability_conflicts};
 pub use split::{SplitSettings, split_until_valid};
 
 /// A partition of a scene's objects into clusters, each a list of object ids.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Clustering {
     /// The clusters; every object of the scene is in exactly one.
     pub clusters: Vec<Vec<ObjectId>>,

@@ -6,7 +6,9 @@
 //! Robotiq 2F-85 over the controller's own interfaces (`ur5/`).
 
 mod ideal;
+#[cfg(feature = "sim")]
 pub mod sim;
+#[cfg(feature = "robot")]
 pub mod ur5;
 
 use serde::{Deserialize, Serialize};
@@ -17,6 +19,7 @@ use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
 pub use ideal::Ideal;
+#[cfg(feature = "sim")]
 pub use sim::{Closing, FingerDrive, Rollout, Sim, SimSettings};
 
 /// A finger or plate came down on top of an object while the gripper descended, so the action was

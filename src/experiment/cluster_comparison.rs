@@ -14,6 +14,7 @@ use crate::error::Result;
 use crate::outcome::Status;
 use crate::plan::verify_clustering;
 use crate::scene::{GeneratorSettings, ObjectSet, generate_scene};
+use crate::stats::mean_std;
 
 /// One scene's figures.
 #[derive(Clone, Debug, PartialEq)]
@@ -115,20 +116,8 @@ pub fn compare_clustering(
     Ok(rows)
 }
 
-fn mean_std(values: &[f64]) -> (f64, f64) {
-    let n = values.len().max(1) as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (mean, var.sqrt())
-}
-
 fn quantile(values: &[f64], q: f64) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+    crate::stats::quantile(values, q).unwrap_or(f64::NAN)
 }
 
 /// The Markdown report of a comparison.

@@ -26,6 +26,8 @@
 //! [[policies]]
 //! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
 //! settings = { }                    # policy settings (any subset)
+//! clusterer = "milp"                # optional: replace the preset's clusterer (hierarchical, milp)
+//! pusher = "socp"                   # optional: replace its push planner (none, toward-central, socp)
 //! ```
 //!
 //! Runs are numbered in a fixed order — object count, scene, bin distance, friction, policy,
@@ -38,7 +40,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::exec::SimSettings;
-use crate::policy::{PolicyKind, PolicySettings};
+use crate::policy::{ClustererKind, Policy, PolicyKind, PolicySettings, PusherKind};
 use crate::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set};
 
 /// A whole experiment.
@@ -164,6 +166,29 @@ pub struct PolicyConfig {
     /// Its settings.
     #[serde(default)]
     pub settings: PolicySettings,
+    /// Replaces the preset's clusterer (`hierarchical` or `milp`), to compose a policy from parts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clusterer: Option<ClustererKind>,
+    /// Replaces the preset's push planner (`none`, `toward-central` or `socp`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pusher: Option<PusherKind>,
+}
+
+impl PolicyConfig {
+    /// The policy this entry describes, with `settings` (its own, with any sweep applied).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn policy(&self, settings: PolicySettings) -> Result<Policy> {
+        let mut builder = Policy::builder(self.name).settings(settings);
+        if let Some(kind) = self.clusterer {
+            builder = builder.clusterer_kind(Some(kind));
+        }
+        if let Some(kind) = self.pusher {
+            builder = builder.pusher_kind(kind);
+        }
+        builder.build()
+    }
 }
 
 impl PolicyConfig {

@@ -17,7 +17,6 @@ use super::log::{
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Sim};
 use crate::plan::{Plan, RunStatus};
-use crate::policy::Policy;
 use crate::scene::{ObjectSet, generate_scene};
 
 /// How to run an experiment.
@@ -50,7 +49,7 @@ pub fn run_one(
     let scene = generate_scene(&config.generator(spec.objects), set, spec.scene_seed)?;
     let settings = config.policy_settings(spec.policy, spec.bin_distance);
     let bin_distance = settings.time_model.bin_distance;
-    let policy = Policy::new(config.policies[spec.policy].name, settings)?;
+    let policy = config.policies[spec.policy].policy(settings)?;
     let mut executor: Box<dyn Executor> = match config.executor.kind {
         ExecutorKind::Ideal => Box::new(policy.ideal()),
         ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(spec.friction), spec.run_seed)?),
@@ -97,12 +96,7 @@ pub fn run_one(
 
 /// A quantile by nearest rank; 0 for no values.
 pub fn quantile(values: &[f64], q: f64) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+    crate::stats::quantile(values, q).unwrap_or(0.0)
 }
 
 /// What [`run_experiment`] did.

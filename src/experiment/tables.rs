@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 
 use super::log::{Log, LogRow};
 use super::runner::quantile;
+use crate::stats::{mean, mean_std};
 
 /// The Push-MOG paper's physical results (UR5 + 2F-85, 5 scenes of 34 objects, bin adjacent): objects
 /// per trip, mean and standard deviation, by the policy they correspond to.
@@ -52,20 +53,6 @@ pub struct GroupSummary {
     pub planning_p95: f64,
     /// Median over runs of the median clustering time, seconds (wall-clock).
     pub clustering_median: f64,
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-    if n == 0 { 0.0 } else { sum / n as f64 }
-}
-
-fn mean_std(values: &[f64]) -> (f64, f64) {
-    let m = mean(values.iter().copied());
-    if values.len() < 2 {
-        return (m, 0.0);
-    }
-    let var = values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
-    (m, var.sqrt())
 }
 
 /// The bits of a row's swept friction, for grouping (`u64::MAX` when not swept).

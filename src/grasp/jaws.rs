@@ -11,9 +11,10 @@ use crate::geometry::ConvexPolygon;
 use crate::scene::Gripper;
 
 /// Where the open jaws are lowered.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct JawPose {
     /// Gripper centre in the table frame, metres.
+    #[schemars(with = "[f64; 2]")]
     pub center: Point2<f64>,
     /// Direction of the closing axis, radians (the jaws close along `(cos, sin)` of it).
     pub angle: f64,

@@ -35,7 +35,7 @@ pub use outcome::{GraspOutcome, Judgement, ModelOutcome, Noise, noisy_copy, samp
 pub use single::{SingleObject, SingleObjectSettings};
 
 /// A planned grasp: where the jaws go and what the planner expects them to carry.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Grasp {
     /// The jaws before closing.
     pub jaws: JawPose,

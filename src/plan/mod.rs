@@ -19,7 +19,7 @@ use crate::push::{Push, SkippedPush};
 use crate::scene::{ObjectId, SceneSpec};
 
 /// One trip of a run: plan on an observation, push, grasp, carry to the bin.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Trip {
     /// The observation this trip was planned on.
     pub scene: SceneSpec,
@@ -42,7 +42,7 @@ pub struct Trip {
 }
 
 /// The gripper came down on top of an object while descending, which stopped the trip.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "during", rename_all = "snake_case")]
 pub enum Fault {
     /// During the descent of a fork push; later pushes and the grasp were not made.
@@ -75,7 +75,7 @@ impl std::fmt::Display for Fault {
 }
 
 /// How a run ended.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum RunStatus {
     /// Every object reached the bin.
@@ -90,7 +90,7 @@ pub enum RunStatus {
 }
 
 /// Why a run stopped with objects left.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum StopReason {
     /// Every object left is lost to planning: toppled, outside the workspace, lying on another.
@@ -138,7 +138,7 @@ impl std::fmt::Display for StopReason {
 }
 
 /// The record of a closed-loop run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Plan {
     /// The policy's name (`sog`, `mog`, `push-mog`).
     pub policy: String,

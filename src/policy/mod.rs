@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
 use crate::error::{Error, Result};
-use crate::exec::{Executor, Ideal, Rollout, SimSettings};
+use crate::exec::{Executor, Ideal};
 use crate::grasp::{
     Grasp, GraspModel, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
 };
@@ -263,47 +263,184 @@ impl PolicySettings {
     }
 }
 
-/// A policy ready to run.
+/// Which clusterer a policy uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClustererKind {
+    /// The paper's hierarchical clustering with separating-line splits.
+    Hierarchical,
+    /// The optimal set-partitioning MILP.
+    Milp,
+}
+
+/// Which push planner a policy uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum PusherKind {
+    /// No pushes.
+    None,
+    /// The paper's pushes toward each cluster's central object.
+    TowardCentral,
+    /// Push targets from the second-order cone program.
+    Socp,
+}
+
+impl PolicyKind {
+    /// The clusterer of this preset (`None` for single-object grasping, which does not cluster).
+    pub fn clusterer(self) -> Option<ClustererKind> {
+        match self {
+            Self::Sog => None,
+            Self::Mog | Self::PushMog | Self::PushMogSocp => Some(ClustererKind::Hierarchical),
+            Self::PushMogMilp | Self::PushMogOpt => Some(ClustererKind::Milp),
+        }
+    }
+
+    /// The push planner of this preset.
+    pub fn pusher(self) -> PusherKind {
+        match self {
+            Self::Sog | Self::Mog => PusherKind::None,
+            Self::PushMog | Self::PushMogMilp => PusherKind::TowardCentral,
+            Self::PushMogSocp | Self::PushMogOpt => PusherKind::Socp,
+        }
+    }
+}
+
+/// A clusterer a policy can hold.
+pub trait PolicyClusterer: Clusterer + Send + Sync + std::fmt::Debug {}
+impl<T: Clusterer + Send + Sync + std::fmt::Debug> PolicyClusterer for T {}
+
+/// A push planner a policy can hold.
+pub trait PolicyPusher: PushPlanner + Send + Sync + std::fmt::Debug {}
+impl<T: PushPlanner + Send + Sync + std::fmt::Debug> PolicyPusher for T {}
+
+/// A policy ready to run: a clusterer, a push planner and the grasp planners, each a trait object, so
+/// a researcher can put their own in with [`PolicyBuilder`].
 #[derive(Clone, Debug)]
 pub struct Policy {
     kind: PolicyKind,
     settings: PolicySettings,
-    clusterer: AnyClusterer,
-    pusher: AnyPusher,
+    /// `None`: single-object grasps of objects picked at random, no clustering.
+    clusterer: Option<Arc<dyn PolicyClusterer>>,
+    pusher: Option<Arc<dyn PolicyPusher>>,
     single: SingleObject,
     multi: MultiObject,
 }
 
-/// One of the clusterers, chosen by the settings.
-#[derive(Clone, Debug)]
-enum AnyClusterer {
-    Hierarchical(Hierarchical),
-    Milp(Milp),
+/// Builds a [`Policy`] from a preset, replacing any of its parts.
+///
+/// ```
+/// use pushmog::cluster::Hierarchical;
+/// use pushmog::policy::{Policy, PolicyKind};
+/// // The paper's pushes with the paper's clustering, however push-mog-opt would cluster.
+/// let policy = Policy::builder(PolicyKind::PushMogOpt)
+///     .clusterer(Hierarchical::default())
+///     .build()
+///     .unwrap();
+/// assert_eq!(policy.kind(), PolicyKind::PushMogOpt);
+/// ```
+#[derive(Debug)]
+pub struct PolicyBuilder {
+    kind: PolicyKind,
+    settings: PolicySettings,
+    clusterer: Option<Option<Arc<dyn PolicyClusterer>>>,
+    pusher: Option<Option<Arc<dyn PolicyPusher>>>,
+    parts: (Option<Option<ClustererKind>>, Option<PusherKind>),
 }
 
-impl AnyClusterer {
-    fn get(&self) -> &dyn Clusterer {
-        match self {
-            Self::Hierarchical(c) => c,
-            Self::Milp(c) => c,
-        }
+impl PolicyBuilder {
+    /// Settings of every stage (defaults otherwise).
+    pub fn settings(mut self, settings: PolicySettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// Cluster with this clusterer.
+    pub fn clusterer(mut self, clusterer: impl PolicyClusterer + 'static) -> Self {
+        self.clusterer = Some(Some(Arc::new(clusterer)));
+        self
+    }
+
+    /// Push with this push planner.
+    pub fn pusher(mut self, pusher: impl PolicyPusher + 'static) -> Self {
+        self.pusher = Some(Some(Arc::new(pusher)));
+        self
+    }
+
+    /// Use a named clusterer, built from the settings (`None`: single-object grasps, no clustering).
+    pub fn clusterer_kind(mut self, kind: Option<ClustererKind>) -> Self {
+        self.parts.0 = Some(kind);
+        self
+    }
+
+    /// Use a named push planner, built from the settings.
+    pub fn pusher_kind(mut self, kind: PusherKind) -> Self {
+        self.parts.1 = Some(kind);
+        self
+    }
+
+    /// The policy.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range.
+    pub fn build(self) -> Result<Policy> {
+        self.settings.validate()?;
+        let settings = self.settings.effective();
+        let clusterer = match self.clusterer {
+            Some(chosen) => chosen,
+            None => match self.parts.0.unwrap_or(self.kind.clusterer()) {
+                None => None,
+                Some(ClustererKind::Hierarchical) => {
+                    Some(Arc::new(Hierarchical::new(settings.clustering.clone())?)
+                        as Arc<dyn PolicyClusterer>)
+                }
+                Some(ClustererKind::Milp) => Some(Arc::new(Milp::new(settings.milp.clone())?) as _),
+            },
+        };
+        let pusher = match self.pusher {
+            Some(chosen) => chosen,
+            None => match self.parts.1.unwrap_or(self.kind.pusher()) {
+                PusherKind::None => None,
+                PusherKind::TowardCentral => {
+                    Some(Arc::new(TowardCentral::new(settings.pushing.clone())?)
+                        as Arc<dyn PolicyPusher>)
+                }
+                PusherKind::Socp => Some(Arc::new(Socp::new(settings.socp.clone())?) as _),
+            },
+        };
+        let multi = multi_object(&settings)?;
+        Ok(Policy {
+            kind: self.kind,
+            clusterer,
+            pusher,
+            single: SingleObject::new(settings.single.clone())?,
+            multi,
+            settings,
+        })
     }
 }
 
-/// One of the push planners, chosen by the policy.
-#[derive(Clone, Debug)]
-enum AnyPusher {
-    TowardCentral(TowardCentral),
-    Socp(Socp),
-}
-
-impl AnyPusher {
-    fn get(&self) -> &dyn PushPlanner {
-        match self {
-            Self::TowardCentral(p) => p,
-            Self::Socp(p) => p,
-        }
+/// The multi-object planner: judged by the grasp model, or by rollouts in the simulator.
+fn multi_object(settings: &PolicySettings) -> Result<MultiObject> {
+    if !settings.rollout {
+        return MultiObject::new(settings.multi.clone());
     }
+    #[cfg(feature = "sim")]
+    {
+        MultiObject::with_outcome(
+            settings.multi.clone(),
+            Arc::new(crate::exec::Rollout {
+                settings: crate::exec::SimSettings::default(),
+                samples: settings.multi.samples,
+                noise: settings.multi.noise.clone(),
+            }),
+        )
+    }
+    #[cfg(not(feature = "sim"))]
+    Err(Error::field(
+        "policy",
+        "rollout",
+        "rollouts need the simulator: build with the `sim` feature",
+    ))
 }
 
 mod run;
@@ -313,40 +450,23 @@ pub use run::{Run, RunTiming, run_seconds};
 pub use trip::{TripContext, TripPlan};
 
 impl Policy {
-    /// A policy with these settings.
+    /// The preset `kind` with these settings.
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn new(kind: PolicyKind, settings: PolicySettings) -> Result<Self> {
-        settings.validate()?;
-        let settings = settings.effective();
-        Ok(Self {
+        Self::builder(kind).settings(settings).build()
+    }
+
+    /// A builder starting from the preset `kind` with default settings.
+    pub fn builder(kind: PolicyKind) -> PolicyBuilder {
+        PolicyBuilder {
             kind,
-            clusterer: if kind.optimal_clustering() {
-                AnyClusterer::Milp(Milp::new(settings.milp.clone())?)
-            } else {
-                AnyClusterer::Hierarchical(Hierarchical::new(settings.clustering.clone())?)
-            },
-            pusher: if kind.optimal_pushing() {
-                AnyPusher::Socp(Socp::new(settings.socp.clone())?)
-            } else {
-                AnyPusher::TowardCentral(TowardCentral::new(settings.pushing.clone())?)
-            },
-            single: SingleObject::new(settings.single.clone())?,
-            multi: if settings.rollout {
-                MultiObject::with_outcome(
-                    settings.multi.clone(),
-                    Arc::new(Rollout {
-                        settings: SimSettings::default(),
-                        samples: settings.multi.samples,
-                        noise: settings.multi.noise.clone(),
-                    }),
-                )?
-            } else {
-                MultiObject::new(settings.multi.clone())?
-            },
-            settings,
-        })
+            settings: PolicySettings::default(),
+            clusterer: None,
+            pusher: None,
+            parts: (None, None),
+        }
     }
 
     /// Which policy this is.

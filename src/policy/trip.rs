@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Policy, PolicyKind};
+use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
@@ -81,12 +81,12 @@ impl Policy {
         let drafted = if scene.is_empty() {
             Err("the table is empty".to_string())
         } else {
-            match self.kind {
-                PolicyKind::Sog => self.draft_single(scene, &mut context.rng, &context.failed)?,
-                kind => self.draft_clustered(
+            match &self.clusterer {
+                None => self.draft_single(scene, &mut context.rng, &context.failed)?,
+                Some(clusterer) => self.draft_clustered(
                     scene,
+                    clusterer.as_ref(),
                     &mut context.rng,
-                    kind.pushes(),
                     &context.failed,
                     &mut clustering_seconds,
                 )?,
@@ -164,13 +164,13 @@ impl Policy {
     fn draft_clustered(
         &self,
         observed: &Scene,
+        clusterer: &dyn PolicyClusterer,
         rng: &mut SeededRng,
-        with_pushes: bool,
         avoid: &[JawPose],
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, String>> {
         let started = Instant::now();
-        let clustering = self.clusterer.get().cluster(observed)?.value;
+        let clustering = clusterer.cluster(observed)?.value;
         *clustering_seconds = Some(started.elapsed().as_secs_f64());
         let candidates: Vec<usize> = (0..clustering.len())
             .filter(|&k| {
@@ -195,8 +195,10 @@ impl Policy {
             grasp,
         };
         let mut skipped = Vec::new();
-        if with_pushes && members.len() > 1 {
-            let plan = self.plan_pushes(observed, &members)?;
+        if let Some(pusher) = self.pusher.as_deref()
+            && members.len() > 1
+        {
+            let plan = self.plan_pushes(pusher, observed, &members)?;
             skipped = plan.skipped;
             if !plan.pushes.is_empty() {
                 let predicted = predict(observed, &plan.pushes)?;
@@ -259,8 +261,12 @@ impl Policy {
     /// infeasible, or no push sequence exists), or the planned row is not predicted held while a
     /// smaller one is, the largest sub-clusters are tried, cheapest first, and the object left out is
     /// reported as skipped to wait for a later trip.
-    fn plan_pushes(&self, observed: &Scene, members: &[ObjectId]) -> Result<PushPlan> {
-        let pusher = self.pusher.get();
+    fn plan_pushes(
+        &self,
+        pusher: &dyn PolicyPusher,
+        observed: &Scene,
+        members: &[ObjectId],
+    ) -> Result<PushPlan> {
         let usable =
             |status: &Status| !matches!(status, Status::Infeasible | Status::Failed { .. });
         // Planners that do not judge their rows (the paper's) count as held.

@@ -20,13 +20,16 @@ use crate::geometry::{ConvexPolygon, cast_distance, overlap};
 use crate::scene::{Gripper, ObjectId};
 
 /// The gripper's motion for one fork push (all points are the gripper centre in the table frame).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ForkPush {
     /// Where the fingers are lowered, behind the object.
+    #[schemars(with = "[f64; 2]")]
     pub approach: Point2<f64>,
     /// Where the fingers first touch the object.
+    #[schemars(with = "[f64; 2]")]
     pub contact: Point2<f64>,
     /// Where the push ends; the fingers rise here.
+    #[schemars(with = "[f64; 2]")]
     pub end: Point2<f64>,
     /// Direction of the jaw line (closing axis), radians: perpendicular to the push.
     pub jaw_angle: f64,

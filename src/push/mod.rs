@@ -27,7 +27,7 @@ pub use predict::predict;
 pub use socp::{Socp, SocpSettings};
 
 /// One planned fork push: an object translated along a straight line.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Push {
     /// The object pushed.
     pub object: ObjectId,
@@ -36,6 +36,7 @@ pub struct Push {
     /// Its planned pose after the push (same yaw: pushes plan translations only, as in the paper).
     pub to: Pose,
     /// Unit push direction in the table frame.
+    #[schemars(with = "[f64; 2]")]
     pub direction: Vector2<f64>,
     /// Push length, metres.
     pub distance: f64,
@@ -56,7 +57,7 @@ impl Push {
 }
 
 /// Why an object of a cluster is not pushed.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum SkipReason {
     /// It is already within the stopping gap of its target; nothing to do.
@@ -110,7 +111,7 @@ impl std::fmt::Display for SkipReason {
 }
 
 /// An object that is not pushed, and why.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SkippedPush {
     /// The object.
     pub object: ObjectId,
@@ -119,7 +120,7 @@ pub struct SkippedPush {
 }
 
 /// The pushes planned for one cluster.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PushPlan {
     /// Pushes in execution order.
     pub pushes: Vec<Push>,

@@ -9,11 +9,13 @@
 mod figure;
 mod plan;
 mod svg;
+#[cfg(feature = "robot")]
 mod tool_path;
 
 pub use figure::{Figure, OBJECT_FILL, OBJECT_STROKE, RenderOptions, UNGRASPABLE_STROKE};
 pub use plan::{plan_svg, replay_html, trip_colour, trip_svg};
 pub use svg::{Canvas, Style};
+#[cfg(feature = "robot")]
 pub use tool_path::tool_path_svg;
 
 use crate::scene::Scene;

@@ -592,6 +592,7 @@ pub fn schema(format: SchemaFormat) -> Result<()> {
             serde_json::to_value(schemars::schema_for!(pushmog::exec::ur5::RobotConfig))
                 .unwrap_or_default()
         }
+        SchemaFormat::Plan => serde_json::to_value(schemars::schema_for!(Plan)).unwrap_or_default(),
     };
     print!("{}", to_json(&schema));
     Ok(())

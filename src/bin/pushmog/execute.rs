@@ -9,6 +9,7 @@ use pushmog::exec::ur5::{
 };
 use pushmog::json;
 use pushmog::plan::Plan;
+use pushmog::policy::Run;
 use pushmog::scene::Scene;
 
 use super::ExecuteArgs;
@@ -138,15 +139,33 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 let runner =
                     StepRunner::new(translator, connect(&config)?).with_progress(print_step);
                 let mut robot = Ur5::new(runner, observation);
-                let outcome = policy.run(&scene, &mut robot, args.seed);
-                write_record(robot.runner().steps(), outcome.as_ref().err(), &args.out)?;
+                // The run's own record is kept whatever happens: after a fault, run.json holds
+                // every trip completed, stopped as interrupted.
+                let (plan, stepped) = match Run::start(&policy, &scene, &mut robot, args.seed) {
+                    Err(e) => (None, Err(e)),
+                    Ok(mut run) => {
+                        let stepped = loop {
+                            match run.step(&mut robot) {
+                                Ok(Some(_)) => break Ok(()),
+                                Ok(None) => {}
+                                Err(e) => break Err(e),
+                            }
+                        };
+                        (Some(run.record()), stepped)
+                    }
+                };
+                write_record(robot.runner().steps(), stepped.as_ref().err(), &args.out)?;
                 json::write_text(
                     &args.out.join("executed-trips.json"),
                     &json::to_json(&robot.trips()),
                 )?;
-                let plan = outcome?;
-                json::write_text(&args.out.join("run.json"), &json::to_json(&plan))?;
-                print!("{}", summary(&plan, scene.len()));
+                if let Some(plan) = &plan {
+                    json::write_text(&args.out.join("run.json"), &json::to_json(plan))?;
+                }
+                stepped?;
+                if let Some(plan) = &plan {
+                    print!("{}", summary(plan, scene.len()));
+                }
                 Ok(())
             } else {
                 // Nothing moves in a dry run, so the table would never change: plan the whole run

@@ -352,6 +352,8 @@ enum SchemaFormat {
     Experiment,
     /// Robot configurations of `execute` (TOML, same fields).
     Robot,
+    /// Plans and run records (`plan`, `run --plan`, `execute`'s run.json).
+    Plan,
 }
 
 fn main() -> ExitCode {

@@ -373,10 +373,5 @@ impl Translator {
 /// Expected duration of a straight move of `length` metres at `speed` with `acceleration`
 /// (a trapezoidal or triangular speed profile), seconds.
 pub fn move_duration(length: f64, speed: f64, acceleration: f64) -> f64 {
-    let ramp = speed * speed / acceleration;
-    if length >= ramp {
-        length / speed + speed / acceleration
-    } else {
-        2.0 * (length / acceleration).sqrt()
-    }
+    crate::time_model::trapezoid_seconds(length, speed, acceleration)
 }
