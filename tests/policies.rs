@@ -213,3 +213,71 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
     }
     println!("cleared in {trips} trips");
 }
+
+/// Hand-made inconsistent records are each refused by the verifier, though every trip on its own is
+/// sound: trips removed, reordered, carried objects changed, duplicated or invented, impossible times
+/// and statuses that do not add up.
+#[test]
+fn inconsistent_records_are_refused() {
+    use pushmog::plan::{RunStatus, StopReason, verify};
+    use pushmog::scene::ObjectId;
+    let plan = run(PolicyKind::PushMog, &scene(4), 4);
+    assert!(verify(&plan).is_empty());
+    assert!(plan.trips.len() > 3);
+    let multi = plan
+        .trips
+        .iter()
+        .position(|t| t.carried.len() >= 2)
+        .expect("a multi-object trip");
+    let mut broken: Vec<(&str, Plan)> = Vec::new();
+    let mut p = plan.clone();
+    p.trips.pop();
+    broken.push(("last trip removed, still cleared", p));
+    let mut p = plan.clone();
+    p.trips.remove(1);
+    broken.push(("a middle trip removed", p));
+    let mut p = plan.clone();
+    p.trips.swap(1, 2);
+    broken.push(("two trips swapped", p));
+    let mut p = plan.clone();
+    p.trips[multi].carried.pop();
+    broken.push(("carried less than the grasp claims", p));
+    let mut p = plan.clone();
+    let other = p.trips[0].carried[0];
+    p.trips[1].carried.push(other);
+    broken.push(("an object carried twice", p));
+    let mut p = plan.clone();
+    p.trips[0].carried.push(ObjectId(9999));
+    broken.push(("an invented object carried", p));
+    let mut p = plan.clone();
+    p.seconds = -1.0;
+    broken.push(("negative time", p));
+    let mut p = plan.clone();
+    p.seconds = f64::NAN;
+    broken.push(("no time at all", p));
+    let mut p = plan.clone();
+    p.status = RunStatus::Stopped {
+        remaining: vec![plan.trips[0].carried[0]],
+        reason: StopReason::AllTooWide,
+    };
+    broken.push(("a carried object said to be left", p));
+    let mut p = plan.clone();
+    p.trips.pop();
+    p.status = RunStatus::Stopped {
+        remaining: Vec::new(),
+        reason: StopReason::TripLimit { limit: 1 },
+    };
+    broken.push(("objects left unaccounted for", p));
+    let mut p = plan.clone();
+    let back = p.trips[0].scene.objects[0].clone();
+    let carried_first = p.trips[0].carried.contains(&back.id);
+    if carried_first {
+        p.trips[2].scene.objects.push(back);
+    } else {
+        p.trips[2].scene.objects.retain(|o| o.id != back.id);
+    }
+    broken.push(("a table that does not follow from the last", p));
+    for (what, p) in &broken {
+        assert!(!verify(p).is_empty(), "{what}: accepted");
+    }
+}

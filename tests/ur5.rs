@@ -646,3 +646,46 @@ fn the_cli_runs_a_closed_loop_on_the_fakes() {
     assert!(dir.join("executed-trips.json").is_file());
     assert!(!controller.programs().is_empty());
 }
+
+/// A plan the verifier rejects never reaches the robot: `execute` refuses it (exit 1, naming the trip
+/// and the rule) before writing a dry run or connecting, with `--execute` too.
+#[test]
+fn the_cli_refuses_a_plan_the_verifier_rejects() {
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let dir = scratch("ur5-cli-unverified");
+    // The fixture plan with its first trip's grasp claiming an object twice.
+    let mut plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture("ur5/plan.json")).unwrap()).unwrap();
+    let first = plan["trips"][0]["carried"][0].clone();
+    plan["trips"][0]["carried"]
+        .as_array_mut()
+        .unwrap()
+        .push(first);
+    let bad = dir.join("bad-plan.json");
+    std::fs::write(&bad, serde_json::to_string(&plan).unwrap()).unwrap();
+    let robot = dir.join("robot.toml");
+    std::fs::write(&robot, toml::to_string(&config).unwrap()).unwrap();
+    for extra in [&[][..], &["--execute"][..]] {
+        let out_dir = dir.join(if extra.is_empty() { "dry" } else { "live" });
+        let mut args = vec![
+            "execute",
+            bad.to_str().unwrap(),
+            "--robot",
+            robot.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = pushmog(&args);
+        assert_eq!(out.status.code(), Some(1), "{extra:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("verifier") && stderr.contains("trip 0"),
+            "{stderr}"
+        );
+        assert!(!out_dir.exists(), "{extra:?}: something was written");
+    }
+    assert_eq!(gripper.connections(), 0);
+    assert!(controller.programs().is_empty());
+}

@@ -9,7 +9,7 @@
 mod verify;
 
 pub use crate::outcome::{Outcome, Stats, Status};
-pub use verify::{Violation, verify, verify_clustering, verify_trip};
+pub use verify::{Violation, verify, verify_clustering, verify_record, verify_trip};
 
 use serde::{Deserialize, Serialize};
 

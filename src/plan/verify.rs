@@ -12,11 +12,12 @@
 //!   is positive and at most both the sum of their diameters (objects may turn while the jaws close)
 //!   and the gap between the open plates (the plates are short, so they may close past parts of
 //!   objects beside them);
-//! - **carried** objects are on the table.
+//! - **the record** ([`verify_record`]): times, objects carried once, tables that chain from trip to
+//!   trip, and a status that agrees with what is left.
 
 use nalgebra::{Point2, Vector2};
 
-use super::{Plan, Trip};
+use super::{Plan, RunStatus, Trip};
 use crate::cluster::Clustering;
 use crate::cluster::summed_diameter;
 use crate::geometry::{ConvexPolygon, cast_distance, overlap, penetration_depth, separating_line};
@@ -30,29 +31,172 @@ const TOUCH: f64 = 1e-6;
 /// One broken rule.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Violation {
-    /// The trip (0-based).
-    pub trip: usize,
+    /// The trip (0-based), or `None` for the record as a whole.
+    pub trip: Option<usize>,
     /// What is wrong.
     pub what: String,
 }
 
 impl std::fmt::Display for Violation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "trip {}: {}", self.trip, self.what)
+        match self.trip {
+            Some(trip) => write!(f, "trip {trip}: {}", self.what),
+            None => write!(f, "plan: {}", self.what),
+        }
     }
 }
 
-/// Every violation in a plan; empty when the plan is sound.
+/// Every violation in a plan; empty when the plan is sound: each trip by [`verify_trip`], and the
+/// record as a whole by [`verify_record`].
 pub fn verify(plan: &Plan) -> Vec<Violation> {
-    plan.trips
+    let mut found: Vec<Violation> = plan
+        .trips
         .iter()
         .enumerate()
         .flat_map(|(k, trip)| {
-            verify_trip(trip)
-                .into_iter()
-                .map(move |what| Violation { trip: k, what })
+            verify_trip(trip).into_iter().map(move |what| Violation {
+                trip: Some(k),
+                what,
+            })
         })
-        .collect()
+        .collect();
+    found.extend(verify_record(plan));
+    found
+}
+
+/// Violations of the record as a whole:
+/// - the robot time is a finite, non-negative number of seconds;
+/// - no object is carried twice;
+/// - with plans applied exactly (`ideal`), each trip carries exactly what its grasp claims (unless a
+///   landing stopped it) and only objects on its table, and each trip's table is the previous one's
+///   after its pushes less what it carried;
+/// - with other executors (physics, a robot), objects may topple out of view and come back, or be
+///   lifted along with others: a trip's table holds only objects seen before and not yet carried, and
+///   what a trip carries was seen before and not yet carried;
+/// - a cleared run carried every object it saw; a stopped one left every object it saw and did not
+///   carry, and carried none of those it says are left.
+pub fn verify_record(plan: &Plan) -> Vec<Violation> {
+    use std::collections::BTreeSet;
+    let mut found = Vec::new();
+    let mut add = |trip: Option<usize>, what: String| found.push(Violation { trip, what });
+    if !(plan.seconds.is_finite() && plan.seconds >= 0.0) {
+        add(
+            None,
+            format!("robot time {} s is not a duration", plan.seconds),
+        );
+    }
+    let exact = plan.executor == "ideal";
+    let mut seen: BTreeSet<ObjectId> = BTreeSet::new();
+    let mut carried: BTreeSet<ObjectId> = BTreeSet::new();
+    let mut expected: Option<Vec<(ObjectId, [f64; 3])>> = None;
+    for (k, trip) in plan.trips.iter().enumerate() {
+        let here: BTreeSet<ObjectId> = trip.scene.objects.iter().map(|o| o.id).collect();
+        if k > 0 {
+            for id in &here {
+                if carried.contains(id) {
+                    add(
+                        Some(k),
+                        format!("object {id} is on the table after it was carried"),
+                    );
+                } else if !exact && !seen.contains(id) {
+                    add(Some(k), format!("object {id} appears from nowhere"));
+                }
+            }
+        }
+        if let Some(expected) = expected.take() {
+            let ids: Vec<ObjectId> = expected.iter().map(|(id, _)| *id).collect();
+            let now: Vec<ObjectId> = trip.scene.objects.iter().map(|o| o.id).collect();
+            if ids != now {
+                add(
+                    Some(k),
+                    "the table is not the previous trip's after its pushes and what it carried"
+                        .to_string(),
+                );
+            } else {
+                for ((id, pose), object) in expected.iter().zip(&trip.scene.objects) {
+                    let p = object.pose;
+                    let off =
+                        (p.x - pose[0]).abs() + (p.y - pose[1]).abs() + (p.yaw - pose[2]).abs();
+                    if off > 1e-9 {
+                        add(
+                            Some(k),
+                            format!("object {id} is not where the previous trip left it"),
+                        );
+                    }
+                }
+            }
+        }
+        seen.extend(here.iter().copied());
+        let mut this_trip: BTreeSet<ObjectId> = BTreeSet::new();
+        for id in &trip.carried {
+            if !this_trip.insert(*id) || carried.contains(id) {
+                add(Some(k), format!("object {id} is carried twice"));
+            }
+            let known = if exact {
+                here.contains(id)
+            } else {
+                seen.contains(id)
+            };
+            if !known {
+                add(Some(k), format!("carried object {id} is not on the table"));
+            }
+        }
+        if exact && trip.fault.is_none() {
+            let claimed: BTreeSet<ObjectId> = trip.grasp.objects.iter().copied().collect();
+            if claimed != this_trip {
+                add(
+                    Some(k),
+                    "plans applied exactly must carry what the grasp claims".to_string(),
+                );
+            }
+        }
+        carried.extend(this_trip);
+        if exact {
+            // The next table: this one after the pushes, less what was carried.
+            let mut poses: Vec<(ObjectId, [f64; 3])> = trip
+                .scene
+                .objects
+                .iter()
+                .map(|o| (o.id, [o.pose.x, o.pose.y, o.pose.yaw]))
+                .collect();
+            for push in &trip.pushes {
+                if let Some(entry) = poses.iter_mut().find(|(id, _)| *id == push.object) {
+                    let moved = push.displacement();
+                    entry.1[0] += moved.x;
+                    entry.1[1] += moved.y;
+                }
+            }
+            poses.retain(|(id, _)| !carried.contains(id));
+            expected = Some(poses);
+        }
+    }
+    let left: BTreeSet<ObjectId> = seen.difference(&carried).copied().collect();
+    match &plan.status {
+        RunStatus::Cleared => {
+            if !left.is_empty() {
+                add(
+                    None,
+                    format!("status cleared, but objects {left:?} were never carried"),
+                );
+            }
+        }
+        RunStatus::Stopped { remaining, .. } => {
+            let remaining: BTreeSet<ObjectId> = remaining.iter().copied().collect();
+            if let Some(id) = remaining.intersection(&carried).next() {
+                add(
+                    None,
+                    format!("object {id} is said to be left but was carried"),
+                );
+            }
+            if let Some(id) = left.difference(&remaining).next() {
+                add(
+                    None,
+                    format!("object {id} was neither carried nor said to be left"),
+                );
+            }
+        }
+    }
+    found
 }
 
 /// Every violation in one trip.
@@ -65,11 +209,6 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     check_clustering(&scene, trip, &mut found);
     let world = check_pushes(&scene, trip, &mut found);
     check_grasp(&scene, &world, trip, &mut found);
-    for id in &trip.carried {
-        if scene.index_of(*id).is_none() {
-            found.push(format!("carried object {id} is not on the table"));
-        }
-    }
     found
 }
 

@@ -41,6 +41,7 @@ pub struct Run<'a> {
     failed_attempts: Vec<String>,
     timing: RunTiming,
     status: Option<RunStatus>,
+    verify_first: bool,
 }
 
 impl<'a> Run<'a> {
@@ -69,7 +70,15 @@ impl<'a> Run<'a> {
             failed_attempts: Vec::new(),
             timing: RunTiming::default(),
             status: None,
+            verify_first: false,
         })
+    }
+
+    /// Check every trip's plan with the independent verifier before carrying it out, and stop with
+    /// an error, having sent nothing of that trip, if it fails (for a real robot).
+    pub fn verify_before_acting(mut self) -> Self {
+        self.verify_first = true;
+        self
     }
 
     /// One observation and what follows it: a trip, a planning attempt that found nothing, or the
@@ -104,6 +113,25 @@ impl<'a> Run<'a> {
             self.in_a_row += 1;
             return Ok(None);
         };
+        if self.verify_first {
+            let record = Trip {
+                scene: observed.to_spec(),
+                clustering: trip.clustering.clone(),
+                cluster: trip.cluster,
+                pushes: trip.pushes.clone(),
+                skipped_pushes: trip.skipped_pushes.clone(),
+                grasp: trip.grasp.clone(),
+                carried: Vec::new(),
+                fault: None,
+            };
+            if let Some(problem) = crate::plan::verify_trip(&record).first() {
+                return Err(crate::error::Error::field(
+                    format!("trip {}", self.trips.len()),
+                    "plan",
+                    format!("refused before acting: the verifier says {problem}"),
+                ));
+            }
+        }
         let mut fault = None;
         for (k, push) in trip.pushes.iter().enumerate() {
             if let Some(landing) = executor.push(push)? {
@@ -186,13 +214,21 @@ impl<'a> Run<'a> {
     /// The record so far: every trip made and every fruitless attempt, with the final status once
     /// the run has ended (until then, stopped as interrupted).
     pub fn record(&self) -> Plan {
-        let status = self.status.clone().unwrap_or_else(|| RunStatus::Stopped {
-            remaining: self
-                .trips
-                .last()
-                .map(|t| t.scene.objects.iter().map(|o| o.id).collect())
-                .unwrap_or_default(),
-            reason: StopReason::Interrupted,
+        let status = self.status.clone().unwrap_or_else(|| {
+            // Every object seen and not carried is still somewhere.
+            let mut remaining: Vec<ObjectId> = Vec::new();
+            for trip in &self.trips {
+                for object in &trip.scene.objects {
+                    if !remaining.contains(&object.id) {
+                        remaining.push(object.id);
+                    }
+                }
+            }
+            remaining.retain(|id| !self.trips.iter().any(|t| t.carried.contains(id)));
+            RunStatus::Stopped {
+                remaining,
+                reason: StopReason::Interrupted,
+            }
         });
         let settings = self.policy.settings();
         Plan {

@@ -8,7 +8,7 @@ use pushmog::exec::ur5::{
     listing, plan_steps, step_list,
 };
 use pushmog::json;
-use pushmog::plan::Plan;
+use pushmog::plan::{Plan, verify};
 use pushmog::policy::Run;
 use pushmog::scene::Scene;
 
@@ -108,6 +108,14 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
     match (&args.plan, observation) {
         (Some(path), None) => {
             let plan = read_plan(path)?;
+            // Refuse a plan the verifier rejects before writing or connecting anything.
+            if let Some(violation) = verify(&plan).first() {
+                return Err(Error::field(
+                    path.display().to_string(),
+                    "plan",
+                    format!("refused: the verifier says {violation}"),
+                ));
+            }
             let scene = plan
                 .trips
                 .first()
@@ -143,7 +151,8 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                 // every trip completed, stopped as interrupted.
                 let (plan, stepped) = match Run::start(&policy, &scene, &mut robot, args.seed) {
                     Err(e) => (None, Err(e)),
-                    Ok(mut run) => {
+                    Ok(run) => {
+                        let mut run = run.verify_before_acting();
                         let stepped = loop {
                             match run.step(&mut robot) {
                                 Ok(Some(_)) => break Ok(()),
