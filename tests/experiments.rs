@@ -190,3 +190,95 @@ fn bad_configurations_are_refused_with_the_field() {
     assert_eq!(output.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&output.stderr).contains("greedy"));
 }
+
+/// Two `experiment` processes on one log: the second is refused at once with a clear message, the
+/// first finishes, and the log equals an uninterrupted run's.
+#[test]
+fn a_second_writer_is_refused_and_the_log_stays_whole() {
+    let dir = scratch("experiment-two-writers");
+    let config_path = dir.join("tiny.toml");
+    std::fs::write(
+        &config_path,
+        "name = \"tiny\"\nseed = 3\n[scenes]\nobjects = [10]\ncount = 4\n[executor]\nkind = \"sim\"\n\
+         [[policies]]\nname = \"sog\"\n[[policies]]\nname = \"push-mog\"\n",
+    )
+    .unwrap();
+    let args = |log: &Path| {
+        vec![
+            "experiment".to_string(),
+            config_path.display().to_string(),
+            "--log".to_string(),
+            log.display().to_string(),
+            "--tables".to_string(),
+            dir.join("tables").display().to_string(),
+            "--figures".to_string(),
+            dir.join("figures").display().to_string(),
+            "--quiet".to_string(),
+            "--jobs".to_string(),
+            "1".to_string(),
+        ]
+    };
+    let shared = dir.join("shared.jsonl");
+    let mut first = std::process::Command::new(env!("CARGO_BIN_EXE_pushmog"))
+        .args(args(&shared))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let second = std::process::Command::new(env!("CARGO_BIN_EXE_pushmog"))
+        .args(args(&shared))
+        .output()
+        .unwrap();
+    let finished = first.wait().unwrap();
+    assert!(finished.success());
+    assert_eq!(second.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert!(stderr.contains("another `pushmog experiment`"), "{stderr}");
+    let whole = dir.join("whole.jsonl");
+    let alone = std::process::Command::new(env!("CARGO_BIN_EXE_pushmog"))
+        .args(args(&whole))
+        .output()
+        .unwrap();
+    assert!(alone.status.success());
+    assert_eq!(
+        figures(&read_log(&shared).unwrap().rows),
+        figures(&read_log(&whole).unwrap().rows)
+    );
+}
+
+/// Damaged logs: a header without its newline is finished, not cut, on resume; a duplicated row is
+/// refused by resume and by `report`, naming its line counted from the top of the file.
+#[test]
+fn damaged_logs_are_mended_or_refused_with_the_line() {
+    let dir = scratch("experiment-damaged");
+    let config = config("ideal");
+    let log = dir.join("log.jsonl");
+    run_experiment(&config, &dir, &options(&log, (0, 1), Some(0))).unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(text.matches('\n').count(), 1);
+    std::fs::write(&log, text.trim_end()).unwrap();
+    run_experiment(&config, &dir, &options(&log, (0, 1), None)).unwrap();
+    let whole = dir.join("whole.jsonl");
+    run_experiment(&config, &dir, &options(&whole, (0, 1), None)).unwrap();
+    assert_eq!(
+        figures(&read_log(&log).unwrap().rows),
+        figures(&read_log(&whole).unwrap().rows)
+    );
+    // Duplicate the last row.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let last = text.lines().last().unwrap().to_string();
+    std::fs::write(&log, format!("{text}{last}\n")).unwrap();
+    let lines = text.lines().count() + 1;
+    let error = read_log(&log).unwrap_err().to_string();
+    assert!(
+        error.contains(&format!("line {lines}")) && error.contains("twice"),
+        "{error}"
+    );
+    let error = run_experiment(&config, &dir, &options(&log, (0, 1), None))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("twice"), "{error}");
+    let report = pushmog(&["report", log.to_str().unwrap()]);
+    assert_eq!(report.status.code(), Some(1));
+}

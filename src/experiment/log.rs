@@ -172,10 +172,12 @@ pub fn git_commit() -> String {
     }
 }
 
-/// Reads a log; a torn last line (an interrupted write) is ignored.
+/// Reads a log; a torn last line (an interrupted write) is ignored. The rows must be the runs of the
+/// header's shard, each once, in order (a duplicated or missing row is refused, naming its line).
 ///
 /// # Errors
-/// [`Error::Io`] or [`Error::Json`] for a missing file, a bad header or a bad complete row.
+/// [`Error::Io`] or [`Error::Json`] for a missing file, a bad header or a bad complete row (with its
+/// line number counted from the top of the file); [`Error::InvalidField`] for rows out of sequence.
 pub fn read_log(path: &Path) -> Result<Log> {
     let text = crate::json::read_text(path)?;
     let name = path.display().to_string();
@@ -191,12 +193,29 @@ pub fn read_log(path: &Path) -> Result<Log> {
             format!("not a pushmog log of format {LOG_FORMAT}"),
         ));
     }
-    let mut rows = Vec::new();
+    let [shard, shards] = header.shard;
+    let mut rows: Vec<LogRow> = Vec::new();
     for (k, line) in lines.enumerate() {
         if !line.ends_with('\n') {
             break; // torn by an interruption
         }
-        let row: LogRow = crate::json::from_json(line, &format!("{name} (row {})", k + 1))?;
+        let number = k + 2;
+        let row: LogRow = crate::json::from_json(line, &format!("{name}, line {number}"))?;
+        let expected = shard + k * shards.max(1);
+        if row.id != expected {
+            let what = if rows.iter().any(|r| r.id == row.id) {
+                format!("run {} is logged twice", row.id)
+            } else {
+                format!("run {} where run {expected} was expected", row.id)
+            };
+            return Err(Error::field(
+                &name,
+                format!("line {number}"),
+                format!(
+                    "{what}: the log is damaged; remove that line and what follows, then run again"
+                ),
+            ));
+        }
         rows.push(row);
     }
     Ok(Log { header, rows })
@@ -216,6 +235,7 @@ impl LogWriter {
     pub fn create(path: &Path, header: &LogHeader) -> Result<Self> {
         crate::json::write_text(path, "")?;
         let mut writer = Self::append(path)?;
+        // The header and its newline in one write, flushed before any row.
         writer.line(&serde_json::to_string(header).unwrap_or_default())?;
         Ok(writer)
     }
@@ -231,14 +251,21 @@ impl LogWriter {
         };
         let text = std::fs::read_to_string(path).map_err(io)?;
         let complete = text.rfind('\n').map_or(0, |k| k + 1);
+        // A header written without its newline is complete all the same: finish it rather than cut.
+        let header_only = complete == 0 && serde_json::from_str::<LogHeader>(&text).is_ok();
         let file = std::fs::OpenOptions::new()
             .write(true)
             .open(path)
             .map_err(io)?;
-        file.set_len(complete as u64).map_err(io)?;
+        if !header_only {
+            file.set_len(complete as u64).map_err(io)?;
+        }
         let mut file = file;
         use std::io::Seek as _;
         file.seek(std::io::SeekFrom::End(0)).map_err(io)?;
+        if header_only {
+            file.write_all(b"\n").map_err(io)?;
+        }
         Ok(Self {
             file,
             path: path.to_path_buf(),
@@ -258,9 +285,50 @@ impl LogWriter {
             path: self.path.clone(),
             source,
         };
-        self.file.write_all(text.as_bytes()).map_err(io)?;
-        self.file.write_all(b"\n").map_err(io)?;
+        let mut line = String::with_capacity(text.len() + 1);
+        line.push_str(text);
+        line.push('\n');
+        self.file.write_all(line.as_bytes()).map_err(io)?;
         self.file.flush().map_err(io)
+    }
+}
+
+/// An exclusive lock on a log for as long as it lives, so that two `pushmog experiment` processes
+/// never write one log. The operating system releases it when the process ends, however it ends.
+pub struct LogLock {
+    _file: std::fs::File,
+}
+
+impl LogLock {
+    /// Locks `path` (creating an empty file when there is none).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when another process holds the lock; [`Error::Io`].
+    pub fn acquire(path: &Path) -> Result<Self> {
+        let io = |source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent).map_err(io)?;
+        }
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(io)?;
+        match file.try_lock() {
+            Ok(()) => Ok(Self { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(Error::field(
+                path.display().to_string(),
+                "lock",
+                "another `pushmog experiment` is writing this log: wait for it to finish, or give \
+                 another --log",
+            )),
+            Err(std::fs::TryLockError::Error(source)) => Err(io(source)),
+        }
     }
 }
 

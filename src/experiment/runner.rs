@@ -11,8 +11,8 @@ use rayon::prelude::*;
 
 use super::config::{ExecutorKind, ExperimentConfig, RunSpec};
 use super::log::{
-    LOG_FORMAT, LOG_KIND, LogHeader, LogRow, LogWriter, RowTiming, config_hash, git_commit,
-    machine_description, read_log,
+    LOG_FORMAT, LOG_KIND, LogHeader, LogLock, LogRow, LogWriter, RowTiming, config_hash,
+    git_commit, machine_description, read_log,
 };
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Sim};
@@ -134,7 +134,10 @@ pub fn run_experiment(
         .filter(|r| r.id % shards == shard)
         .collect();
     let hash = config_hash(config);
-    let done = if options.log.exists() {
+    // Held until the run ends: a second process on this log is refused here.
+    let _lock = LogLock::acquire(&options.log)?;
+    let fresh = std::fs::metadata(&options.log).map_or(true, |m| m.len() == 0);
+    let done = if !fresh {
         let log = read_log(&options.log)?;
         if log.header.config_hash != hash || log.header.shard != [shard, shards] {
             return Err(Error::field(
@@ -156,7 +159,7 @@ pub fn run_experiment(
     } else {
         0
     };
-    let mut writer = if done > 0 || options.log.exists() {
+    let mut writer = if !fresh {
         LogWriter::append(&options.log)?
     } else {
         LogWriter::create(
