@@ -132,6 +132,29 @@ pub enum Error {
 /// `Result` with the crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// Checks that `value` is a finite number in `[low, high]`; otherwise an [`Error::InvalidField`]
+/// naming the component, the field, the range and `why` it is bounded.
+///
+/// # Errors
+/// As described.
+pub fn in_range(
+    component: &str,
+    field: &str,
+    value: f64,
+    (low, high): (f64, f64),
+    why: &str,
+) -> Result<()> {
+    if value.is_finite() && value >= low && value <= high {
+        Ok(())
+    } else {
+        Err(Error::field(
+            component,
+            field,
+            format!("must be between {low} and {high} ({why}), got {value}"),
+        ))
+    }
+}
+
 impl Error {
     /// An [`Error::InvalidField`] for a component other than an object.
     pub fn field(

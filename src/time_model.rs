@@ -29,7 +29,7 @@
 use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::scene::Gripper;
 
 /// Width of the object in the model's nominal single-object trip, metres: the median minimum grasp
@@ -141,27 +141,54 @@ impl TimeModel {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        for (field, value, positive) in [
-            ("travel_speed", self.travel_speed, true),
-            ("travel_acceleration", self.travel_acceleration, true),
-            ("approach_height", self.approach_height, false),
-            ("bin_distance", self.bin_distance, false),
-            ("jaw_speed", self.jaw_speed, true),
-            ("push_speed", self.push_speed, true),
-            ("arm_settle", self.arm_settle, false),
-            ("gripper_settle", self.gripper_settle, false),
-            ("observation", self.observation, false),
-        ] {
-            if !value.is_finite() || value < 0.0 || (positive && value == 0.0) {
-                return Err(Error::field(
-                    "time_model",
-                    field,
-                    format!(
-                        "must be a finite {} number, got {value}",
-                        if positive { "positive" } else { "non-negative" }
-                    ),
-                ));
-            }
+        let checks: [(&str, f64, (f64, f64), &str); 9] = [
+            (
+                "travel_speed",
+                self.travel_speed,
+                (0.01, 5.0),
+                "m/s of an arm's linear moves",
+            ),
+            (
+                "travel_acceleration",
+                self.travel_acceleration,
+                (0.01, 50.0),
+                "m/s² of an arm's linear moves",
+            ),
+            (
+                "approach_height",
+                self.approach_height,
+                (0.0, 1.0),
+                "m above the table",
+            ),
+            (
+                "bin_distance",
+                self.bin_distance,
+                (0.0, 100.0),
+                "m to the bin",
+            ),
+            ("jaw_speed", self.jaw_speed, (0.005, 1.0), "m/s of the jaws"),
+            (
+                "push_speed",
+                self.push_speed,
+                (0.001, 1.0),
+                "m/s of a fork push",
+            ),
+            ("arm_settle", self.arm_settle, (0.0, 60.0), "s per arm move"),
+            (
+                "gripper_settle",
+                self.gripper_settle,
+                (0.0, 60.0),
+                "s per jaw command",
+            ),
+            (
+                "observation",
+                self.observation,
+                (0.0, 600.0),
+                "s of perception and planning",
+            ),
+        ];
+        for (field, value, range, why) in checks {
+            crate::error::in_range("time_model", field, value, range, why)?;
         }
         Ok(())
     }

@@ -6,6 +6,7 @@ mod baselines;
 mod cli;
 mod clustering_milp;
 mod experiments;
+mod fuzz;
 mod generator;
 mod geometry_properties;
 mod policies;

@@ -8,6 +8,12 @@
 //! Two disjoint candidates *clash* when no line separates their centroids; the model then forbids
 //! choosing both. Candidates whose centroid bounding boxes are apart are separated by an axis line and
 //! are not tested further.
+//!
+//! Tightly packed small objects give combinatorially many candidates (34 squares of 5 mm on a 25 mm
+//! grid give millions), so both enumerations run under a [`Budget`] of items and time and report
+//! when it runs out.
+
+use std::time::Instant;
 
 use nalgebra::Point2;
 
@@ -16,19 +22,45 @@ use super::separability::SEPARATION_TOLERANCE;
 use crate::geometry::are_separable;
 use crate::scene::Scene;
 
+/// How much work enumerating candidates and clashes may take: small objects packed tightly give
+/// combinatorially many clusters, so both enumerations stop at a count and a deadline.
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// Most items (candidates, or clashing pairs) to produce.
+    pub max_items: usize,
+    /// When to stop, whatever the count.
+    pub deadline: Option<Instant>,
+}
+
+impl Budget {
+    /// No limit.
+    pub const UNLIMITED: Budget = Budget {
+        max_items: usize::MAX,
+        deadline: None,
+    };
+
+    fn exhausted(&self, items: usize, steps: usize) -> bool {
+        items > self.max_items
+            || (steps.is_multiple_of(1024) && self.deadline.is_some_and(|d| Instant::now() >= d))
+    }
+}
+
 /// Compact, capacity-feasible clusters (scene indices, ascending).
 pub fn compact_candidates(scene: &Scene, max_size: usize, max_diameter: f64) -> Vec<Vec<usize>> {
-    compact_candidates_where(scene, max_size, max_diameter, &|_| true)
+    compact_candidates_where(scene, max_size, max_diameter, &|_| true, Budget::UNLIMITED)
+        .unwrap_or_default()
 }
 
 /// Compact, capacity-feasible clusters that `accept` also accepts. `accept` must be monotone (a set
-/// it refuses has no accepted superset), so refused sets are not grown.
+/// it refuses has no accepted superset), so refused sets are not grown. `None` when the enumeration
+/// would exceed `budget`.
 pub fn compact_candidates_where(
     scene: &Scene,
     max_size: usize,
     max_diameter: f64,
     accept: &dyn Fn(&[usize]) -> bool,
-) -> Vec<Vec<usize>> {
+    budget: Budget,
+) -> Option<Vec<Vec<usize>>> {
     let n = scene.len();
     let centroids: Vec<Point2<f64>> = (0..n).map(|i| scene.centroid(i)).collect();
     let near: Vec<Vec<bool>> = (0..n)
@@ -41,7 +73,12 @@ pub fn compact_candidates_where(
     let mut found = Vec::new();
     let mut stack: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
     stack.reverse();
+    let mut steps = 0usize;
     while let Some(set) = stack.pop() {
+        steps += 1;
+        if budget.exhausted(found.len() + stack.len(), steps) {
+            return None;
+        }
         let last = set[set.len() - 1];
         if set.len() < max_size {
             for j in (last + 1..n).rev() {
@@ -56,11 +93,16 @@ pub fn compact_candidates_where(
         }
         found.push(set);
     }
-    found
+    Some(found)
 }
 
-/// Pairs `(a, b)`, `a < b`, of disjoint candidates whose centroids no line separates.
-pub fn clashing_pairs(scene: &Scene, candidates: &[Vec<usize>]) -> Vec<(usize, usize)> {
+/// Pairs `(a, b)`, `a < b`, of disjoint candidates whose centroids no line separates; `None` when
+/// there are more than `budget` allows or the deadline passes.
+pub fn clashing_pairs(
+    scene: &Scene,
+    candidates: &[Vec<usize>],
+    budget: Budget,
+) -> Option<Vec<(usize, usize)>> {
     let points: Vec<Vec<Point2<f64>>> = candidates
         .iter()
         .map(|c| c.iter().map(|&i| scene.centroid(i)).collect())
@@ -70,8 +112,13 @@ pub fn clashing_pairs(scene: &Scene, candidates: &[Vec<usize>]) -> Vec<(usize, u
     let mut order: Vec<usize> = (0..candidates.len()).collect();
     order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let mut pairs = Vec::new();
+    let mut steps = 0usize;
     for (k, &a) in order.iter().enumerate() {
         for &b in &order[k + 1..] {
+            steps += 1;
+            if budget.exhausted(pairs.len(), steps) {
+                return None;
+            }
             if boxes[b].0.x > boxes[a].1.x + 2.0 * SEPARATION_TOLERANCE {
                 break;
             }
@@ -91,7 +138,7 @@ pub fn clashing_pairs(scene: &Scene, candidates: &[Vec<usize>]) -> Vec<(usize, u
         }
     }
     pairs.sort_unstable();
-    pairs
+    Some(pairs)
 }
 
 fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {

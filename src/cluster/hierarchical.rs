@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use super::separability::repair_separability;
 use super::split::{SplitSettings, split_until_valid};
 use super::{Clusterer, Clustering};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::Scene;
 
@@ -63,16 +63,13 @@ impl HierarchicalSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        if !(self.cut_height.is_finite() && self.cut_height >= 0.0) {
-            return Err(Error::field(
-                "hierarchical",
-                "cut_height",
-                format!(
-                    "must be a non-negative number of metres, got {}",
-                    self.cut_height
-                ),
-            ));
-        }
+        crate::error::in_range(
+            "clustering",
+            "cut_height",
+            self.cut_height,
+            (0.0, 100.0),
+            "metres",
+        )?;
         self.split.validate()
     }
 }

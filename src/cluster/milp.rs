@@ -25,7 +25,7 @@ use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variabl
 use serde::{Deserialize, Serialize};
 
 use super::admits_row;
-use super::candidates::{clashing_pairs, compact_candidates_where};
+use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::separability::separability_conflicts;
@@ -71,8 +71,14 @@ pub struct MilpSettings {
     /// planner's (`socp.margin`).
     #[serde(skip)]
     pub row_margin: f64,
-    /// Wall-clock limit of one solve, seconds. Default 10.
+    /// Wall-clock limit of one clustering (enumeration and every solve), seconds. Default 10.
     pub time_limit: f64,
+    /// Most candidate clusters the model may hold; beyond it (tightly packed small objects) the
+    /// heuristic's clustering is returned with status `heuristic`. Default 20 000 (paper scenes of
+    /// 34 objects give a few hundred; each candidate is a variable and a list of members).
+    pub max_candidates: usize,
+    /// Most clash rows the model may hold, with the same fallback. Default 200 000.
+    pub max_clash_rows: usize,
     /// Relative gap at which the solver may stop. Default 0 (prove optimality).
     pub mip_gap: f64,
     /// The solver. Default `microlp`.
@@ -99,6 +105,8 @@ impl Default for MilpSettings {
             min_push: 0.003,
             row_margin: 0.010,
             time_limit: 10.0,
+            max_candidates: 20_000,
+            max_clash_rows: 200_000,
             mip_gap: 0.0,
             backend: MilpBackend::Microlp,
             two_stage_fewest_clusters: true,
@@ -114,36 +122,57 @@ impl MilpSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        if self.max_cluster_size == 0 {
+        if !(1..=20).contains(&self.max_cluster_size) {
             return Err(Error::field(
                 "milp",
                 "max_cluster_size",
-                "must be at least 1",
+                format!(
+                    "must be between 1 and 20 (candidates grow combinatorially with it), got {}",
+                    self.max_cluster_size
+                ),
             ));
         }
-        for (field, value) in [
-            ("max_diameter", self.max_diameter),
-            ("min_push", self.min_push),
-            ("row_margin", self.row_margin),
-            ("mip_gap", self.mip_gap),
-        ] {
-            if value.is_nan() || value < 0.0 {
-                return Err(Error::field(
-                    "milp",
-                    field,
-                    format!("must be non-negative, got {value}"),
-                ));
-            }
+        // The diameter may be infinite: no compactness limit (small instances, brute-force checks).
+        if self.max_diameter.is_nan() || self.max_diameter < 0.0 {
+            return Err(Error::field(
+                "milp",
+                "max_diameter",
+                format!("must be non-negative metres, got {}", self.max_diameter),
+            ));
         }
-        if !(self.time_limit.is_finite() && self.time_limit > 0.0) {
+        crate::error::in_range("milp", "min_push", self.min_push, (0.0, 0.1), "metres")?;
+        crate::error::in_range("milp", "row_margin", self.row_margin, (0.0, 0.05), "metres")?;
+        crate::error::in_range(
+            "milp",
+            "mip_gap",
+            self.mip_gap,
+            (0.0, 1.0),
+            "a relative gap",
+        )?;
+        if !(self.time_limit.is_finite() && self.time_limit > 0.0 && self.time_limit <= 3600.0) {
             return Err(Error::field(
                 "milp",
                 "time_limit",
                 format!(
-                    "must be a positive number of seconds, got {}",
+                    "must be a positive number of seconds, at most 3600, got {}",
                     self.time_limit
                 ),
             ));
+        }
+        for (field, value, high) in [
+            ("max_candidates", self.max_candidates, 5_000_000),
+            ("max_clash_rows", self.max_clash_rows, 50_000_000),
+        ] {
+            if !(1..=high).contains(&value) {
+                return Err(Error::field(
+                    "milp",
+                    field,
+                    format!(
+                        "must be between 1 and {high} (each is a model row or column held in \
+                         memory), got {value}"
+                    ),
+                ));
+            }
         }
         if self.backend == MilpBackend::Highs && !cfg!(feature = "highs") {
             return Err(Error::field(
@@ -439,12 +468,41 @@ impl Clusterer for Milp {
             .collect::<Result<_>>()?;
         // A cluster is worth pushing only if its members can stand in one row the jaws take.
         let limit = scene.gripper().usable_gap() - settings.row_margin;
-        let mut candidates = compact_candidates_where(
+        let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
+        let give_up = |what: String| Outcome {
+            value: heuristic.value.clone(),
+            status: Status::Heuristic,
+            stats: Stats {
+                seconds: started.elapsed().as_secs_f64(),
+                objective: None,
+                bound: None,
+                gap: None,
+                backend_status: Some(format!(
+                    "{what}: the model was not built; the heuristic's clustering, with no \
+                     optimality claim"
+                )),
+                counters: vec![
+                    ("budget_exceeded".to_string(), 1.0),
+                    ("fell_back".to_string(), 1.0),
+                    ("clusters".to_string(), heuristic.value.len() as f64),
+                ],
+            },
+        };
+        let Some(mut candidates) = compact_candidates_where(
             scene,
             settings.max_cluster_size,
             settings.max_diameter,
             &|c| admits_row(scene, c, limit, ROW_GAP),
-        );
+            Budget {
+                max_items: settings.max_candidates,
+                deadline: Some(deadline),
+            },
+        ) else {
+            return Ok(give_up(format!(
+                "more than {} candidate clusters, or the time limit, while enumerating candidates",
+                settings.max_candidates
+            )));
+        };
         let mut known: HashSet<Vec<usize>> = candidates.iter().cloned().collect();
         let mut warm = Vec::new();
         for cluster in &heuristic_clusters {
@@ -476,11 +534,23 @@ impl Clusterer for Milp {
                 covering[o].push(k);
             }
         }
-        let mut clashes = clashing_pairs(scene, &candidates);
+        let Some(mut clashes) = clashing_pairs(
+            scene,
+            &candidates,
+            Budget {
+                max_items: settings.max_clash_rows,
+                deadline: Some(deadline),
+            },
+        ) else {
+            return Ok(give_up(format!(
+                "more than {} clashing pairs of the {} candidates, or the time limit",
+                settings.max_clash_rows,
+                candidates.len()
+            )));
+        };
         let heuristic_cost = costs_model.clustering_cost(&heuristic_clusters);
         let clash_rows = clashes.len();
 
-        let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
         let mut rounds = 0;
         let mut stage = |costs: &[f64], gap: f64, count: Option<usize>, warm: &[usize]| {
             self.stage(

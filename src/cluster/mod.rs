@@ -24,7 +24,7 @@ use crate::error::Result;
 use crate::outcome::Outcome;
 use crate::scene::{ObjectId, Scene};
 
-pub use candidates::{clashing_pairs, compact_candidates, compact_candidates_where};
+pub use candidates::{Budget, clashing_pairs, compact_candidates, compact_candidates_where};
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
 pub use milp::{Milp, MilpBackend, MilpSettings};
 pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};

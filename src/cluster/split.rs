@@ -14,7 +14,7 @@ use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use super::{fits_jaws, summed_diameter};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::cross;
 use crate::scene::Scene;
 
@@ -40,17 +40,13 @@ impl SplitSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming `angle_step`.
     pub fn validate(&self) -> Result<()> {
-        if !(self.angle_step.is_finite()
-            && self.angle_step > 0.0
-            && self.angle_step <= std::f64::consts::FRAC_PI_4)
-        {
-            return Err(Error::field(
-                "split",
-                "angle_step",
-                format!("must be in (0, π/4] radians, got {}", self.angle_step),
-            ));
-        }
-        Ok(())
+        crate::error::in_range(
+            "clustering.split",
+            "angle_step",
+            self.angle_step,
+            (1e-4, std::f64::consts::FRAC_PI_4),
+            "radians; each step is a split line tried",
+        )
     }
 }
 

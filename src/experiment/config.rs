@@ -41,7 +41,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::exec::SimSettings;
 use crate::policy::{ClustererKind, Policy, PolicyKind, PolicySettings, PusherKind};
-use crate::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set};
+use crate::scene::{GeneratorSettings, MAX_OBJECTS, ObjectSet, Workspace, builtin_object_set};
+
+/// Most runs one experiment may hold: a million lines of log, about 1 GB; larger studies are split
+/// into several experiments (or shards of one).
+pub const MAX_RUNS: usize = 1_000_000;
 
 /// A whole experiment.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -228,13 +232,16 @@ impl ExperimentConfig {
     /// [`Error::Io`] or [`Error::InvalidField`] naming the problem (TOML errors give line and column).
     pub fn read(path: &Path) -> Result<Self> {
         let text = crate::json::read_text(path)?;
-        let config: Self = toml::from_str(&text).map_err(|e| {
-            Error::field(
-                path.display().to_string(),
-                "toml",
-                e.to_string().trim().replace('\n', " "),
-            )
-        })?;
+        Self::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Parses and checks a configuration; `name` says where it came from in error messages.
+    ///
+    /// # Errors
+    /// As [`ExperimentConfig::read`].
+    pub fn from_toml(text: &str, name: &str) -> Result<Self> {
+        let config: Self = toml::from_str(text)
+            .map_err(|e| Error::field(name, "toml", e.to_string().trim().replace('\n', " ")))?;
         config.validate()?;
         Ok(config)
     }
@@ -268,6 +275,52 @@ impl ExperimentConfig {
         }
         if self.repetitions == 0 {
             return Err(Error::field(component, "repetitions", "must be at least 1"));
+        }
+        if let Some(&n) = self
+            .scenes
+            .objects
+            .iter()
+            .find(|&&n| !(1..=MAX_OBJECTS).contains(&n))
+        {
+            return Err(Error::field(
+                component,
+                "scenes.objects",
+                format!("each count must be between 1 and {MAX_OBJECTS}, got {n}"),
+            ));
+        }
+        if self
+            .scenes
+            .first_seed
+            .checked_add(self.scenes.count as u64)
+            .is_none()
+        {
+            return Err(Error::field(
+                component,
+                "scenes.first_seed",
+                "first_seed + count overflows a 64-bit seed",
+            ));
+        }
+        let total = [
+            self.scenes.objects.len(),
+            self.scenes.count,
+            self.sweep.bin_distance.len().max(1),
+            self.sweep.friction.len().max(1),
+            self.policies.len(),
+            self.repetitions,
+        ]
+        .iter()
+        .try_fold(1usize, |acc, &n| acc.checked_mul(n))
+        .filter(|&n| n <= MAX_RUNS);
+        if total.is_none() {
+            return Err(Error::field(
+                component,
+                "scenes.count",
+                format!(
+                    "object counts × scenes × sweep values × policies × repetitions must be at most \
+                     {MAX_RUNS} runs (each run is a line of the log); split the study into several \
+                     experiments"
+                ),
+            ));
         }
         if self
             .sweep

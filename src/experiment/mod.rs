@@ -19,7 +19,8 @@ pub mod tables;
 
 pub use cluster_comparison::{SceneComparison, compare_clustering, comparison_markdown};
 pub use config::{
-    ExecutorConfig, ExecutorKind, ExperimentConfig, PolicyConfig, RunSpec, SceneConfig, SweepConfig,
+    ExecutorConfig, ExecutorKind, ExperimentConfig, MAX_RUNS, PolicyConfig, RunSpec, SceneConfig,
+    SweepConfig,
 };
 pub use log::{Log, LogHeader, LogRow, merge_logs, read_log, write_log};
 pub use push_comparison::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};

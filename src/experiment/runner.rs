@@ -19,6 +19,9 @@ use crate::exec::{Executor, Sim};
 use crate::plan::{Plan, RunStatus};
 use crate::scene::{ObjectSet, generate_scene};
 
+/// Most worker threads per core: runs are CPU-bound, so more threads only add memory.
+pub const MAX_JOBS_PER_CORE: usize = 4;
+
 /// How to run an experiment.
 #[derive(Clone, Debug)]
 pub struct RunnerOptions {
@@ -26,7 +29,7 @@ pub struct RunnerOptions {
     pub log: PathBuf,
     /// `(i, n)`: run only the runs with `id % n == i`.
     pub shard: (usize, usize),
-    /// Worker threads (0: one per core).
+    /// Worker threads (0: one per core; at most [`MAX_JOBS_PER_CORE`] per core).
     pub jobs: usize,
     /// Show a progress bar on standard error.
     pub progress: bool,
@@ -125,6 +128,19 @@ pub fn run_experiment(
             "experiment",
             "--shard",
             format!("shard {shard}/{shards} does not exist: use i/n with 0 ≤ i < n"),
+        ));
+    }
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    if options.jobs > MAX_JOBS_PER_CORE * cores {
+        return Err(Error::field(
+            "experiment",
+            "--jobs",
+            format!(
+                "at most {} worker threads on this machine ({MAX_JOBS_PER_CORE} per core; runs \
+                 are CPU-bound), got {}",
+                MAX_JOBS_PER_CORE * cores,
+                options.jobs
+            ),
         ));
     }
     let set = config.object_set(config_dir)?;

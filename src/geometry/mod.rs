@@ -12,6 +12,7 @@
 //! - [`penetration_depth`], [`cast_distance`], [`contact_patch`]: exact separating-axis queries for
 //!   pushing and squeezing (`sat.rs`); [`contact_points`]: clipped contact points for the planar
 //!   closing simulation (`manifold.rs`).
+//! - [`simplify`]: a detailed outline reduced to few vertices, moving it by at most a stated tolerance.
 
 mod grasp_diameter;
 mod manifold;
@@ -19,6 +20,7 @@ mod polygon;
 mod queries;
 mod sat;
 mod separation;
+mod simplify;
 
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use manifold::{ContactPoint, contact_points};
@@ -26,3 +28,4 @@ pub use polygon::{ConvexPolygon, PolygonError, cross};
 pub use queries::{distance, overlap, point_distance};
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};
+pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, simplify};

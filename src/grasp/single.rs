@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use super::model::{GraspModel, Squeeze, plate_clearance, row_of, squeeze};
 use super::outcome::scene_bodies;
 use super::{Grasp, GraspPlanner, JawPose};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::edge_grasps;
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Scene};
@@ -46,16 +46,13 @@ impl SingleObjectSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        if !(self.clearance.is_finite() && self.clearance >= 0.0) {
-            return Err(Error::field(
-                "single_object",
-                "clearance",
-                format!(
-                    "must be a non-negative number of metres, got {}",
-                    self.clearance
-                ),
-            ));
-        }
+        crate::error::in_range(
+            "single",
+            "clearance",
+            self.clearance,
+            (0.0, 0.05),
+            "metres each side, within the stroke",
+        )?;
         self.model.validate()
     }
 }

@@ -245,20 +245,23 @@ impl PolicySettings {
         self.single.validate()?;
         self.multi.validate()?;
         self.time_model.validate()?;
-        if self.run.max_failed_attempts == 0 {
+        if !(1..=1000).contains(&self.run.max_failed_attempts) {
             return Err(Error::field(
                 "run",
                 "max_failed_attempts",
-                "must be at least 1",
+                format!(
+                    "must be between 1 and 1000 (each attempt is a planning call), got {}",
+                    self.run.max_failed_attempts
+                ),
             ));
         }
-        if !(self.run.max_trips_per_object.is_finite() && self.run.max_trips_per_object > 0.0) {
-            return Err(Error::field(
-                "run",
-                "max_trips_per_object",
-                format!("must be positive, got {}", self.run.max_trips_per_object),
-            ));
-        }
+        crate::error::in_range(
+            "run",
+            "max_trips_per_object",
+            self.run.max_trips_per_object,
+            (0.01, 100.0),
+            "trips per object; every object needs at most one trip when grasps hold",
+        )?;
         Ok(())
     }
 }

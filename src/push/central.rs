@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::fork::{ForkSettings, plan_fork};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
@@ -56,13 +56,7 @@ impl TowardCentralSettings {
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
         for (field, value) in [("stop_gap", self.stop_gap), ("min_push", self.min_push)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(Error::field(
-                    "toward_central",
-                    field,
-                    format!("must be a non-negative number of metres, got {value}"),
-                ));
-            }
+            crate::error::in_range("pushing", field, value, (0.0, 0.1), "metres")?;
         }
         self.fork.validate()
     }

@@ -111,25 +111,35 @@ impl SocpSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        if self.axes == 0 {
-            return Err(Error::field("socp", "axes", "must be at least 1"));
-        }
-        for (field, value) in [
-            ("margin", self.margin),
-            ("gap", self.gap),
-            ("straddle", self.straddle),
-            ("centring", self.centring),
-            ("clearance", self.clearance),
-            ("neighbourhood", self.neighbourhood),
-            ("min_push", self.min_push),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
+        let counts: [(&str, usize, (usize, usize), &str); 2] = [
+            ("axes", self.axes, (1, 360), "each axis is a solve"),
+            (
+                "max_orders",
+                self.max_orders,
+                (1, 720),
+                "each order is a solve (720 = every order of six)",
+            ),
+        ];
+        for (field, value, (low, high), why) in counts {
+            if !(low..=high).contains(&value) {
                 return Err(Error::field(
                     "socp",
                     field,
-                    format!("must be a non-negative number of metres, got {value}"),
+                    format!("must be between {low} and {high} ({why}), got {value}"),
                 ));
             }
+        }
+        let lengths: [(&str, f64, (f64, f64)); 7] = [
+            ("margin", self.margin, (0.0, 0.05)),
+            ("gap", self.gap, (0.0, 0.02)),
+            ("straddle", self.straddle, (0.0, 0.05)),
+            ("centring", self.centring, (0.0, 0.05)),
+            ("clearance", self.clearance, (0.0, 0.05)),
+            ("neighbourhood", self.neighbourhood, (0.0, 2.0)),
+            ("min_push", self.min_push, (0.0, 0.1)),
+        ];
+        for (field, value, range) in lengths {
+            crate::error::in_range("socp", field, value, range, "metres, within a jaw's reach")?;
         }
         self.model.validate()?;
         self.fork.validate()

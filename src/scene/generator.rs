@@ -49,6 +49,10 @@ impl Default for GeneratorSettings {
     }
 }
 
+/// Most objects in one generated scene. Planning is measured up to 1000 objects; beyond ten times
+/// that a scene no longer describes a table.
+pub const MAX_OBJECTS: usize = 10_000;
+
 impl GeneratorSettings {
     /// Checks every field.
     ///
@@ -57,11 +61,21 @@ impl GeneratorSettings {
     pub fn validate(&self) -> Result<()> {
         self.workspace.validate()?;
         self.gripper.validate()?;
-        if self.max_samples == 0 {
+        if !(1..=MAX_OBJECTS).contains(&self.objects) {
+            return Err(Error::field(
+                "generator",
+                "objects",
+                format!("must be between 1 and {MAX_OBJECTS}, got {}", self.objects),
+            ));
+        }
+        if !(1..=100_000_000).contains(&self.max_samples) {
             return Err(Error::field(
                 "generator",
                 "max_samples",
-                "must be at least 1",
+                format!(
+                    "must be between 1 and 100000000 (each sample is an overlap test), got {}",
+                    self.max_samples
+                ),
             ));
         }
         if let Some(radius) = self.clearance_radius

@@ -23,13 +23,14 @@ use serde::{Deserialize, Serialize};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, GraspDiameter, min_grasp_diameter};
 
-pub use generator::{GeneratorSettings, generate_scene};
+pub use generator::{GeneratorSettings, MAX_OBJECTS, generate_scene};
 pub use gripper::Gripper;
 pub use library::{LibraryObject, ObjectSet, builtin_object_set};
 pub use object::{Object, ObjectId, ObjectSpec, Pose};
 pub use perturb::perturb;
+pub use validation::MAX_VERTICES;
 pub use validation::{OUTSIDE_TOLERANCE, OVERLAP_TOLERANCE};
-pub use workspace::Workspace;
+pub use workspace::{MAX_COORDINATE, Workspace};
 
 mod workspace;
 

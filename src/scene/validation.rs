@@ -6,9 +6,12 @@ use std::collections::HashMap;
 use nalgebra::Point2;
 
 use super::object::{Object, ObjectSpec};
-use super::workspace::Workspace;
+use super::workspace::{MAX_COORDINATE, Workspace};
 use crate::error::{Error, Result};
-use crate::geometry::{ConvexPolygon, min_grasp_diameter, penetration_depth};
+use crate::geometry::{
+    ConvexPolygon, SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, min_grasp_diameter, penetration_depth,
+    simplify,
+};
 
 /// Largest interpenetration of two objects still accepted as touching, metres (1 µm). Objects pushed
 /// into a tight row touch; solvers place them to within this.
@@ -17,19 +20,47 @@ pub const OVERLAP_TOLERANCE: f64 = 1e-6;
 /// Largest distance a vertex may lie outside the workspace, metres (1 nm, rounding only).
 pub const OUTSIDE_TOLERANCE: f64 = 1e-9;
 
+/// Most vertices an object's outline may be given with: a contour traced every 10 µm around a
+/// 0.3 m object. Reading is linear in the count; the planner sees the simplified outline.
+pub const MAX_VERTICES: usize = 100_000;
+
 /// Builds a validated object from its JSON form; `index` is its position in the `objects` list.
+///
+/// Outlines of more than [`SIMPLIFY_ABOVE`] vertices are simplified to within
+/// [`SIMPLIFY_TOLERANCE`]; more than [`MAX_VERTICES`] are refused.
 pub(super) fn object_from_spec(index: usize, spec: ObjectSpec) -> Result<Object> {
+    let refuse = |reason: String| Error::InvalidObject {
+        id: spec.id,
+        index,
+        field: "vertices",
+        reason,
+    };
+    if spec.vertices.len() > MAX_VERTICES {
+        return Err(refuse(format!(
+            "{} vertices; at most {MAX_VERTICES} are read (simplify the contour first)",
+            spec.vertices.len()
+        )));
+    }
+    if let Some(vertex) = spec
+        .vertices
+        .iter()
+        .position(|v| v.iter().any(|c| c.abs() > MAX_COORDINATE))
+    {
+        return Err(refuse(format!(
+            "vertex {vertex} is {:?}: coordinates are metres in the object's own frame and must \
+             lie within ±{MAX_COORDINATE} m",
+            spec.vertices[vertex]
+        )));
+    }
     let vertices: Vec<Point2<f64>> = spec
         .vertices
         .iter()
         .map(|&[x, y]| Point2::new(x, y))
         .collect();
-    let polygon = ConvexPolygon::new(vertices).map_err(|e| Error::InvalidObject {
-        id: spec.id,
-        index,
-        field: "vertices",
-        reason: e.to_string(),
-    })?;
+    let mut polygon = ConvexPolygon::new(vertices).map_err(|e| refuse(e.to_string()))?;
+    if polygon.len() > SIMPLIFY_ABOVE {
+        polygon = simplify(&polygon, SIMPLIFY_TOLERANCE);
+    }
     Ok(Object {
         id: spec.id,
         name: spec.name,

@@ -6,6 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 
+/// Largest magnitude of a workspace coordinate, metres. Geometry is computed to micrometres (contact
+/// and overlap tolerances of 1 µm and below); at 1000 m a double still resolves 1e-13 m, and no table
+/// a gripper reaches is larger. Object poses and vertices are bounded through the workspace.
+pub const MAX_COORDINATE: f64 = 1000.0;
+
 /// An axis-aligned rectangle of the table frame, metres.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -71,11 +76,17 @@ impl Workspace {
     /// [`Error::InvalidField`] naming `min` or `max`.
     pub fn validate(&self) -> Result<()> {
         for (field, corner) in [("min", self.min), ("max", self.max)] {
-            if !corner.iter().all(|c| c.is_finite()) {
+            if !corner
+                .iter()
+                .all(|c| c.is_finite() && c.abs() <= MAX_COORDINATE)
+            {
                 return Err(Error::field(
                     "workspace",
                     field,
-                    format!("coordinates must be finite, got {corner:?}"),
+                    format!(
+                        "coordinates must be finite and within ±{MAX_COORDINATE} m (a table, not a \
+                         site; lengths are in metres), got {corner:?}"
+                    ),
                 ));
             }
         }

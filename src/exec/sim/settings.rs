@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// How the two fingers are driven.
 #[derive(
@@ -140,65 +140,151 @@ impl SimSettings {
         }
     }
 
-    /// Checks every field.
+    /// Checks every field against its range; each range has a physical or computational reason,
+    /// given in the error.
     ///
     /// # Errors
-    /// [`Error::InvalidField`] naming the field.
+    /// [`crate::Error::InvalidField`] naming the field and the range.
     pub fn validate(&self) -> Result<()> {
-        let positive = [
-            ("density", self.density),
-            ("finger_mass", self.finger_mass),
-            ("finger_height", self.finger_height),
-            ("linkage_stiffness", self.linkage_stiffness),
-            ("grip_force", self.grip_force),
-            ("jaw_speed", self.jaw_speed),
-            ("push_speed", self.push_speed),
-            ("vertical_speed", self.vertical_speed),
-            ("push_height_fraction", self.push_height_fraction),
-            ("lift", self.lift),
-            ("time_step", self.time_step),
-            ("contact_frequency", self.contact_frequency),
-            ("reach", self.reach),
-            ("topple_angle", self.topple_angle),
-        ];
-        for (field, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::field(
-                    "sim",
-                    field,
-                    format!("must be a positive finite number, got {value}"),
-                ));
-            }
-        }
-        let non_negative = [
-            ("friction_finger", self.friction_finger),
-            ("friction_object", self.friction_object),
-            ("friction_table", self.friction_table),
-            ("grasp_height", self.grasp_height),
-            ("settle", self.settle),
-            ("perception_position", self.perception_position),
-            ("perception_yaw", self.perception_yaw),
-            ("actuation_position", self.actuation_position),
-            ("actuation_yaw", self.actuation_yaw),
-        ];
-        for (field, value) in non_negative {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(Error::field(
-                    "sim",
-                    field,
-                    format!("must be a non-negative finite number, got {value}"),
-                ));
-            }
-        }
-        if self.time_step > 0.01 {
-            return Err(Error::field(
-                "sim",
+        const FRICTION: (f64, f64) = (0.0, 2.0);
+        const FRICTION_WHY: &str = "Coulomb friction of dry solids";
+        let checks: [(&str, f64, (f64, f64), &str); 23] = [
+            (
+                "friction_finger",
+                self.friction_finger,
+                FRICTION,
+                FRICTION_WHY,
+            ),
+            (
+                "friction_object",
+                self.friction_object,
+                FRICTION,
+                FRICTION_WHY,
+            ),
+            (
+                "friction_table",
+                self.friction_table,
+                FRICTION,
+                FRICTION_WHY,
+            ),
+            (
+                "density",
+                self.density,
+                (100.0, 20_000.0),
+                "kg/m³, from foam to tungsten",
+            ),
+            (
+                "finger_mass",
+                self.finger_mass,
+                (0.005, 1.0),
+                "kg; a 2F-85 fingertip is tens of grams",
+            ),
+            (
+                "finger_height",
+                self.finger_height,
+                (0.005, 0.1),
+                "m; the 2F-85 pad is 37.5 mm",
+            ),
+            (
+                "linkage_stiffness",
+                self.linkage_stiffness,
+                (1e3, 1e6),
+                "N/m; softer lets a finger sag centimetres, stiffer needs shorter steps",
+            ),
+            (
+                "grip_force",
+                self.grip_force,
+                (1.0, 235.0),
+                "N; the 2F-85 grips with 20–235 N",
+            ),
+            (
+                "jaw_speed",
+                self.jaw_speed,
+                (0.005, 0.5),
+                "m/s; the 2F-85 closes at 0.02–0.15 m/s",
+            ),
+            (
+                "push_speed",
+                self.push_speed,
+                (0.005, 0.5),
+                "m/s; slower takes hours to simulate, faster is not quasi-static",
+            ),
+            (
+                "vertical_speed",
+                self.vertical_speed,
+                (0.005, 1.0),
+                "m/s; a UR5 tool moves at most about 1 m/s",
+            ),
+            (
+                "push_height_fraction",
+                self.push_height_fraction,
+                (0.01, 1.0),
+                "of the object's height",
+            ),
+            (
+                "grasp_height",
+                self.grasp_height,
+                (0.0, 0.05),
+                "m above the table; the objects are a few centimetres tall",
+            ),
+            (
+                "lift",
+                self.lift,
+                (0.01, 0.5),
+                "m; enough to see what is carried, short enough to simulate",
+            ),
+            (
+                "settle",
+                self.settle,
+                (0.0, 5.0),
+                "s of simulated waiting after a lift",
+            ),
+            (
                 "time_step",
-                format!(
-                    "at most 0.01 s keeps contacts stable, got {}",
-                    self.time_step
-                ),
-            ));
+                self.time_step,
+                (1e-5, 1e-2),
+                "s; below 10 µs a second of motion is over 100,000 steps, above 10 ms contacts are unstable",
+            ),
+            (
+                "contact_frequency",
+                self.contact_frequency,
+                (10.0, 1e4),
+                "Hz of the soft contact constraints",
+            ),
+            ("reach", self.reach, (0.02, 1.0), "m around an action"),
+            (
+                "perception_position",
+                self.perception_position,
+                (0.0, 0.05),
+                "m of noise",
+            ),
+            (
+                "perception_yaw",
+                self.perception_yaw,
+                (0.0, 0.5),
+                "rad of noise",
+            ),
+            (
+                "actuation_position",
+                self.actuation_position,
+                (0.0, 0.05),
+                "m of noise",
+            ),
+            (
+                "actuation_yaw",
+                self.actuation_yaw,
+                (0.0, 0.5),
+                "rad of noise",
+            ),
+            (
+                "topple_angle",
+                self.topple_angle,
+                (0.01, 1.57),
+                "rad from upright",
+            ),
+        ];
+        for (field, value, range, why) in checks {
+            crate::error::in_range("sim", field, value, range, why)?;
         }
         Ok(())
     }
