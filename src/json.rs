@@ -68,9 +68,41 @@ pub fn scene_from_json(text: &str, source_name: &str) -> Result<Scene> {
 /// # Errors
 /// [`Error::Io`] naming the path.
 pub fn read_text(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|source| Error::Io {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
+    })?;
+    text_from_bytes(bytes, &path.display().to_string())
+}
+
+/// Decodes UTF-8 text; `source_name` says where it came from in error messages.
+///
+/// # Errors
+/// [`Error::InvalidField`] giving the line, column and byte offset of the first byte that is not
+/// UTF-8.
+pub fn text_from_bytes(bytes: Vec<u8>, source_name: &str) -> Result<String> {
+    String::from_utf8(bytes).map_err(|e| {
+        let offset = e.utf8_error().valid_up_to();
+        let before = &e.as_bytes()[..offset];
+        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
+        // Columns count characters, as editors do; the prefix is valid UTF-8.
+        let column = String::from_utf8_lossy(&before[line_start..])
+            .chars()
+            .count()
+            + 1;
+        Error::field(
+            source_name,
+            "encoding",
+            format!(
+                "not UTF-8 text: byte 0x{:02x} at line {line}, column {column} (byte offset \
+                 {offset})",
+                e.as_bytes()[offset]
+            ),
+        )
     })
 }
 
@@ -185,6 +217,25 @@ pub fn scene_schema() -> Value {
 /// The JSON Schema of the object-set format.
 pub fn object_set_schema() -> Value {
     serde_json::to_value(schemars::schema_for!(crate::scene::ObjectSet)).unwrap_or(Value::Null)
+}
+
+/// Reads a fixed-length array of numbers, refusing extra or missing elements whatever the format
+/// (TOML readers otherwise drop extras silently). Use as `#[serde(deserialize_with =
+/// "crate::json::exact_array")]`.
+///
+/// # Errors
+/// The format's error, naming the expected and given lengths.
+pub fn exact_array<'de, D, const N: usize>(
+    deserializer: D,
+) -> std::result::Result<[f64; N], D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    let values = <Vec<f64> as serde::Deserialize>::deserialize(deserializer)?;
+    let given = values.len();
+    values.try_into().map_err(|_| {
+        serde::de::Error::invalid_length(given, &format!("exactly {N} numbers").as_str())
+    })
 }
 
 #[cfg(test)]

@@ -317,12 +317,21 @@ fn plan_run_verify_and_render_a_plan() {
 #[test]
 fn unknown_policies_and_executors_are_named() {
     let scene = fixture("good/minimal.json");
+    // Usage errors (exit 2) that list the choices.
     let output = pushmog(&["run", scene.to_str().unwrap(), "--policy", "greedy"]);
-    assert_eq!(output.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("unknown policy `greedy`"));
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("'greedy'"), "{stderr}");
+    assert!(stderr.contains("push-mog-opt"), "{stderr}");
     let output = pushmog(&["run", scene.to_str().unwrap(), "--executor", "robot"]);
-    assert_eq!(output.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("unknown executor `robot`"));
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("'robot'") && stderr.contains("sim"),
+        "{stderr}"
+    );
+    let output = pushmog(&["render", scene.to_str().unwrap(), "--scale", "1e308"]);
+    assert_eq!(output.status.code(), Some(2));
 }
 
 #[test]

@@ -282,3 +282,14 @@ fn damaged_logs_are_mended_or_refused_with_the_line() {
     let report = pushmog(&["report", log.to_str().unwrap()]);
     assert_eq!(report.status.code(), Some(1));
 }
+
+#[test]
+fn a_workspace_with_three_numbers_is_refused() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/paper.toml"),
+    )
+    .unwrap()
+    .replacen("[scenes]\n", "[scenes]\nworkspace = [0.6, 0.45, 9.0]\n", 1);
+    let err = pushmog::experiment::ExperimentConfig::from_toml(&text, "bad").unwrap_err();
+    assert!(err.to_string().contains("exactly 2"), "{err}");
+}

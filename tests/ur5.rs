@@ -689,3 +689,31 @@ fn the_cli_refuses_a_plan_the_verifier_rejects() {
     assert_eq!(gripper.connections(), 0);
     assert!(controller.programs().is_empty());
 }
+
+#[test]
+fn fixed_length_arrays_refuse_extra_or_missing_elements() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
+    )
+    .unwrap();
+    assert!(RobotConfig::from_toml(&text, "example").is_ok());
+    for (from, to) in [
+        (
+            "max = [0.40, 0.85, 0.400]",
+            "max = [0.40, 0.85, 0.400, 99.0]",
+        ),
+        ("max = [0.40, 0.85, 0.400]", "max = [0.40, 0.85]"),
+        (
+            "tcp = [0.0, 0.0, 0.175, 0.0, 0.0, 0.0]",
+            "tcp = [0.0, 0.0, 0.175, 0.0, 0.0, 0.0, 1.0]",
+        ),
+        (
+            "drop = [-0.45, 0.50, 0.20]",
+            "drop = [-0.45, 0.50, 0.20, 0.0]",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let err = RobotConfig::from_toml(&text.replacen(from, to, 1), "bad").unwrap_err();
+        assert!(err.to_string().contains("exactly"), "{err}");
+    }
+}

@@ -95,6 +95,7 @@ pub struct SceneConfig {
     pub first_seed: u64,
     /// Workspace `[width, depth]` in metres for 34 objects. Default `[0.6, 0.45]`.
     #[serde(default = "default_workspace")]
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub workspace: [f64; 2],
     /// Scale the workspace by `√(n / 34)` for `n` objects, keeping the object density. Default true.
     #[serde(default = "default_true")]

@@ -97,19 +97,21 @@ impl MultiObjectSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        if self.grid[0] == 0 || self.grid[1] == 0 || self.angles == 0 {
-            return Err(Error::field(
-                "multi",
-                "grid/angles",
-                "need at least one grid point and one angle",
-            ));
-        }
-        if self.grid[0] > 100 || self.grid[1] > 100 || self.angles > 360 {
-            return Err(Error::field(
-                "multi",
-                "grid/angles",
-                "at most 100 × 100 grid points and 360 angles (each candidate is judged)",
-            ));
+        for (field, value, high) in [
+            ("grid[0]", self.grid[0], 100),
+            ("grid[1]", self.grid[1], 100),
+            ("angles", self.angles, 360),
+        ] {
+            if !(1..=high).contains(&value) {
+                return Err(Error::field(
+                    "multi",
+                    field,
+                    format!(
+                        "must be between 1 and {high} (every grid point × angle is a candidate \
+                         the model judges), got {value}"
+                    ),
+                ));
+            }
         }
         if !(self.opening_fraction > 0.0 && self.opening_fraction <= 1.0) {
             return Err(Error::field(

@@ -6,9 +6,11 @@
 //!   was planned on, the clustering, the chosen cluster, the pushes, the grasp and what was carried.
 //!   [`verify`] checks a plan independently of the planners.
 
+mod file;
 mod verify;
 
 pub use crate::outcome::{Outcome, Stats, Status};
+pub use file::{Moved, ObjectChange, TripRecord};
 pub use verify::{Violation, verify, verify_clustering, verify_record, verify_trip};
 
 use serde::{Deserialize, Serialize};
@@ -148,7 +150,10 @@ pub struct Plan {
     pub seed: u64,
     /// The policy's effective settings.
     pub settings: serde_json::Value,
-    /// The trips in order.
+    /// The trips in order. Written compactly: each trip after the first gives its scene as the
+    /// change from the trip before (`file.rs`).
+    #[serde(with = "file")]
+    #[schemars(with = "Vec<TripRecord>")]
     pub trips: Vec<Trip>,
     /// Planning attempts that produced no grasp, with their reasons.
     pub failed_attempts: Vec<String>,

@@ -29,14 +29,17 @@ use super::{
 /// Reads a file, or standard input for `-`.
 fn read_input(path: &Path) -> Result<(String, String)> {
     if path == Path::new("-") {
-        let mut text = String::new();
+        let mut bytes = Vec::new();
         std::io::stdin()
-            .read_to_string(&mut text)
+            .read_to_end(&mut bytes)
             .map_err(|source| Error::Io {
                 path: path.to_path_buf(),
                 source,
             })?;
-        Ok((text, "<stdin>".to_string()))
+        Ok((
+            json::text_from_bytes(bytes, "<stdin>")?,
+            "<stdin>".to_string(),
+        ))
     } else {
         Ok((json::read_text(path)?, path.display().to_string()))
     }
@@ -254,8 +257,9 @@ pub(crate) fn summary(plan: &Plan, objects: usize) -> String {
     out.push_str(&format!("failed grasps     {}\n", plan.failed_grasps()));
     out.push_str(&format!(
         "robot time        {:.1} s ({:.0} picks per hour)\n",
-        plan.seconds,
-        plan.picks_per_hour()
+        // Adding zero turns a negative zero into zero ("-0.0 s" for a run with no trips).
+        plan.seconds + 0.0,
+        plan.picks_per_hour() + 0.0
     ));
     out.push_str(&format!(
         "failed attempts   {}\n",

@@ -126,8 +126,8 @@ struct GenerateArgs {
 struct PlanArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
-    /// Policy: sog, mog or push-mog.
-    #[arg(long, default_value = "push-mog")]
+    /// Policy.
+    #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Seed of the policy's random choices.
     #[arg(long, default_value_t = 0)]
@@ -144,11 +144,11 @@ struct PlanArgs {
 struct RunArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
-    /// Policy: sog, mog or push-mog.
-    #[arg(long, default_value = "push-mog")]
+    /// Policy.
+    #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Executor: ideal (plans applied exactly) or sim (rapier3d physics).
-    #[arg(long, default_value = "ideal")]
+    #[arg(long, default_value = "ideal", value_parser = ["ideal", "sim"])]
     executor: String,
     /// Simulator settings as JSON (fields not given keep their defaults; `pushmog schema sim`).
     #[arg(long)]
@@ -196,7 +196,7 @@ struct ExecuteArgs {
     #[arg(long, conflicts_with = "plan")]
     observe_command: Option<String>,
     /// Policy of the closed loop.
-    #[arg(long, default_value = "push-mog")]
+    #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Policy settings as JSON (fields not given keep their defaults).
     #[arg(long)]
@@ -262,7 +262,7 @@ struct AgreementArgs {
     #[arg(long, default_value_t = 34)]
     objects: usize,
     /// Policy whose grasps are replayed.
-    #[arg(long, default_value = "push-mog")]
+    #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Policy settings as JSON (fields not given keep their defaults).
     #[arg(long)]
@@ -327,8 +327,8 @@ struct RenderArgs {
     /// Output SVG file (default: standard output).
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Pixels per metre.
-    #[arg(long, default_value_t = 1500.0)]
+    /// Pixels per metre (100 to 100 000).
+    #[arg(long, default_value_t = 1500.0, value_parser = pixels_per_metre)]
     scale: f64,
     /// Leave out the object ids.
     #[arg(long)]
@@ -383,5 +383,22 @@ fn main() -> ExitCode {
             eprintln!("error: {error}");
             ExitCode::from(1)
         }
+    }
+}
+
+/// The policy names `--policy` accepts (a usage error, exit 2, for any other).
+fn policy_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(pushmog::policy::PolicyKind::ALL.map(|k| k.name()))
+}
+
+/// `--scale`: a finite number of pixels per metre in a range that gives a drawing a viewer opens.
+fn pixels_per_metre(text: &str) -> Result<f64, String> {
+    let scale: f64 = text.parse().map_err(|e| format!("{e}"))?;
+    if scale.is_finite() && (100.0..=100_000.0).contains(&scale) {
+        Ok(scale)
+    } else {
+        Err(format!(
+            "must be between 100 and 100000 pixels per metre, got {text}"
+        ))
     }
 }

@@ -20,8 +20,10 @@ use crate::error::{Error, Result};
 #[serde(deny_unknown_fields)]
 pub struct Correspondence {
     /// The point in the table frame, `[x, y]`, metres.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub table: [f64; 2],
     /// The same point in the base frame, `[x, y, z]`, metres.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub base: [f64; 3],
 }
 

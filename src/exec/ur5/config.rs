@@ -23,6 +23,7 @@ pub struct RobotConfig {
     pub calibration: CalibrationConfig,
     /// The tool centre point: the fingertip centre relative to the flange, as a UR pose
     /// `[x, y, z, rx, ry, rz]` (metres, axis-angle radians). Measure it; it is sent with `set_tcp`.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub tcp: [f64; 6],
     /// Heights above the table.
     #[serde(default)]
@@ -153,6 +154,7 @@ impl Default for SpeedsConfig {
 #[serde(deny_unknown_fields)]
 pub struct BinConfig {
     /// Tool centre point above the bin when the jaws open, `[x, y, z]` in the base frame, metres.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub drop: [f64; 3],
 }
 
@@ -216,8 +218,10 @@ impl GripperConfig {
 #[serde(deny_unknown_fields)]
 pub struct SafetyConfig {
     /// Lower corner of the box the tool centre point must stay in, base frame, metres.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub min: [f64; 3],
     /// Upper corner of the box, base frame, metres.
+    #[serde(deserialize_with = "crate::json::exact_array")]
     pub max: [f64; 3],
     /// Largest tool speed any motion may command, m/s.
     pub max_speed: f64,
@@ -255,10 +259,7 @@ impl RobotConfig {
     /// [`Error::Io`] when the file cannot be read, [`Error::InvalidField`] for a parse error or a bad
     /// value (the message names the field).
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::json::read_text(path)?;
         Self::from_toml(&text, &path.display().to_string())
     }
 

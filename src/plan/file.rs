@@ -1,0 +1,206 @@
+//! How a plan's trips are written: the first trip's scene in full, every later one as its change
+//! against the trip before.
+//!
+//! A run of `n` trips over `m` objects would otherwise repeat every object left on the table in every
+//! trip, `O(n·m)` objects in all (a single-object plan of 1000 objects took 178 MB). A later trip's
+//! `scene_change` lists the objects of its scene in order, each as
+//! - an id alone: the object as it was in the previous trip's scene;
+//! - `{"id", "pose"}`: the same object at a new pose;
+//! - a whole object: anything else (an object seen for the first time, or with a new outline).
+//!
+//! Objects of the previous scene not listed are gone. A trip whose workspace or gripper differs from
+//! the previous one is written in full. Reading accepts both forms, so plans written before this
+//! format still read; reading then writing gives the same scenes exactly (numbers are not re-derived).
+
+use std::collections::HashMap;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::{Fault, Trip};
+use crate::cluster::Clustering;
+use crate::grasp::Grasp;
+use crate::push::{Push, SkippedPush};
+use crate::scene::{ObjectId, ObjectSpec, Pose, SceneSpec};
+
+/// One object of a trip's scene, relative to the previous trip's scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum ObjectChange {
+    /// Unchanged since the previous trip.
+    Kept(ObjectId),
+    /// Moved since the previous trip (pushed, or nudged by physics).
+    Moved(Moved),
+    /// New, or changed in more than its pose.
+    Whole(ObjectSpec),
+}
+
+/// An object at a new pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Moved {
+    /// The object.
+    pub id: ObjectId,
+    /// Its new pose.
+    pub pose: Pose,
+}
+
+/// A trip's scene as written: in full, or as the change from the previous trip's scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct TripRecord {
+    /// The observation in full (the first trip, or a trip whose workspace or gripper changed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<SceneSpec>,
+    /// The observation as a change from the previous trip's scene, object by object in order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_change: Option<Vec<ObjectChange>>,
+    /// As [`Trip::clustering`].
+    pub clustering: Clustering,
+    /// As [`Trip::cluster`].
+    pub cluster: Option<usize>,
+    /// As [`Trip::pushes`].
+    pub pushes: Vec<Push>,
+    /// As [`Trip::skipped_pushes`].
+    pub skipped_pushes: Vec<SkippedPush>,
+    /// As [`Trip::grasp`].
+    pub grasp: Grasp,
+    /// As [`Trip::carried`].
+    pub carried: Vec<ObjectId>,
+    /// As [`Trip::fault`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fault: Option<Fault>,
+}
+
+fn change(previous: &SceneSpec, scene: &SceneSpec) -> Option<Vec<ObjectChange>> {
+    if previous.workspace != scene.workspace || previous.gripper != scene.gripper {
+        return None;
+    }
+    let before: HashMap<ObjectId, &ObjectSpec> =
+        previous.objects.iter().map(|o| (o.id, o)).collect();
+    Some(
+        scene
+            .objects
+            .iter()
+            .map(|object| match before.get(&object.id) {
+                Some(&old) if old == object => ObjectChange::Kept(object.id),
+                Some(&old)
+                    if ObjectSpec {
+                        pose: object.pose,
+                        ..old.clone()
+                    } == *object =>
+                {
+                    ObjectChange::Moved(Moved {
+                        id: object.id,
+                        pose: object.pose,
+                    })
+                }
+                _ => ObjectChange::Whole(object.clone()),
+            })
+            .collect(),
+    )
+}
+
+fn apply(
+    previous: &SceneSpec,
+    changes: Vec<ObjectChange>,
+    trip: usize,
+) -> std::result::Result<SceneSpec, String> {
+    let before: HashMap<ObjectId, &ObjectSpec> =
+        previous.objects.iter().map(|o| (o.id, o)).collect();
+    let earlier = |id: ObjectId| {
+        before.get(&id).copied().ok_or_else(|| {
+            format!(
+                "trip {trip}: `scene_change` names object {id}, which the previous trip's scene \
+                 does not hold"
+            )
+        })
+    };
+    let objects = changes
+        .into_iter()
+        .map(|change| match change {
+            ObjectChange::Kept(id) => earlier(id).cloned(),
+            ObjectChange::Moved(Moved { id, pose }) => Ok(ObjectSpec {
+                pose,
+                ..earlier(id)?.clone()
+            }),
+            ObjectChange::Whole(object) => Ok(object),
+        })
+        .collect::<std::result::Result<_, String>>()?;
+    Ok(SceneSpec {
+        workspace: previous.workspace.clone(),
+        gripper: previous.gripper.clone(),
+        objects,
+    })
+}
+
+/// Writes `trips` in the compact form (`#[serde(serialize_with)]` of [`super::Plan::trips`]).
+///
+/// # Errors
+/// The serializer's.
+pub fn serialize<S: Serializer>(trips: &[Trip], serializer: S) -> Result<S::Ok, S::Error> {
+    let records: Vec<TripRecord> = trips
+        .iter()
+        .enumerate()
+        .map(|(k, trip)| {
+            let scene_change = k
+                .checked_sub(1)
+                .and_then(|p| change(&trips[p].scene, &trip.scene));
+            TripRecord {
+                scene: scene_change.is_none().then(|| trip.scene.clone()),
+                scene_change,
+                clustering: trip.clustering.clone(),
+                cluster: trip.cluster,
+                pushes: trip.pushes.clone(),
+                skipped_pushes: trip.skipped_pushes.clone(),
+                grasp: trip.grasp.clone(),
+                carried: trip.carried.clone(),
+                fault: trip.fault,
+            }
+        })
+        .collect();
+    records.serialize(serializer)
+}
+
+/// Reads trips in either form (`#[serde(deserialize_with)]` of [`super::Plan::trips`]).
+///
+/// # Errors
+/// A trip with neither or both of `scene` and `scene_change`, a first trip given as a change, or a
+/// change naming an object the previous scene does not hold.
+pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Trip>, D::Error> {
+    let records = Vec::<TripRecord>::deserialize(deserializer)?;
+    let mut trips: Vec<Trip> = Vec::with_capacity(records.len());
+    for (k, record) in records.into_iter().enumerate() {
+        let scene = match (record.scene, record.scene_change, trips.last()) {
+            (Some(scene), None, _) => scene,
+            (None, Some(changes), Some(previous)) => {
+                apply(&previous.scene, changes, k).map_err(serde::de::Error::custom)?
+            }
+            (None, Some(_), None) => {
+                return Err(serde::de::Error::custom(
+                    "trip 0: the first trip needs its `scene` in full, not a `scene_change`",
+                ));
+            }
+            (Some(_), Some(_), _) => {
+                return Err(serde::de::Error::custom(format!(
+                    "trip {k}: give `scene` or `scene_change`, not both"
+                )));
+            }
+            (None, None, _) => {
+                return Err(serde::de::Error::custom(format!(
+                    "trip {k}: needs `scene` or `scene_change`"
+                )));
+            }
+        };
+        trips.push(Trip {
+            scene,
+            clustering: record.clustering,
+            cluster: record.cluster,
+            pushes: record.pushes,
+            skipped_pushes: record.skipped_pushes,
+            grasp: record.grasp,
+            carried: record.carried,
+            fault: record.fault,
+        });
+    }
+    Ok(trips)
+}
