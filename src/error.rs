@@ -155,6 +155,29 @@ pub fn in_range(
     }
 }
 
+/// Checks that a count lies in `[low, high]`; otherwise an [`Error::InvalidField`] worded as
+/// [`in_range`]'s.
+///
+/// # Errors
+/// As described.
+pub fn count_in_range(
+    component: &str,
+    field: &str,
+    value: usize,
+    (low, high): (usize, usize),
+    why: &str,
+) -> Result<()> {
+    if (low..=high).contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::field(
+            component,
+            field,
+            format!("must be between {low} and {high} ({why}), got {value}"),
+        ))
+    }
+}
+
 impl Error {
     /// An [`Error::InvalidField`] for a component other than an object.
     pub fn field(

@@ -163,16 +163,13 @@ impl MilpSettings {
             ("max_candidates", self.max_candidates, 5_000_000),
             ("max_clash_rows", self.max_clash_rows, 50_000_000),
         ] {
-            if !(1..=high).contains(&value) {
-                return Err(Error::field(
-                    "milp",
-                    field,
-                    format!(
-                        "must be between 1 and {high} (each is a model row or column held in \
-                         memory), got {value}"
-                    ),
-                ));
-            }
+            crate::error::count_in_range(
+                "milp",
+                field,
+                value,
+                (1, high),
+                "each is a model row or column held in memory",
+            )?;
         }
         if self.backend == MilpBackend::Highs && !cfg!(feature = "highs") {
             return Err(Error::field(

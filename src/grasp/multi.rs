@@ -102,16 +102,13 @@ impl MultiObjectSettings {
             ("grid[1]", self.grid[1], 100),
             ("angles", self.angles, 360),
         ] {
-            if !(1..=high).contains(&value) {
-                return Err(Error::field(
-                    "multi",
-                    field,
-                    format!(
-                        "must be between 1 and {high} (every grid point × angle is a candidate \
-                         the model judges), got {value}"
-                    ),
-                ));
-            }
+            crate::error::count_in_range(
+                "multi",
+                field,
+                value,
+                (1, high),
+                "every grid point × angle is a candidate the model judges",
+            )?;
         }
         if !(self.opening_fraction > 0.0 && self.opening_fraction <= 1.0) {
             return Err(Error::field(

@@ -245,16 +245,13 @@ impl PolicySettings {
         self.single.validate()?;
         self.multi.validate()?;
         self.time_model.validate()?;
-        if !(1..=1000).contains(&self.run.max_failed_attempts) {
-            return Err(Error::field(
-                "run",
-                "max_failed_attempts",
-                format!(
-                    "must be between 1 and 1000 (each attempt is a planning call), got {}",
-                    self.run.max_failed_attempts
-                ),
-            ));
-        }
+        crate::error::count_in_range(
+            "run",
+            "max_failed_attempts",
+            self.run.max_failed_attempts,
+            (1, 1000),
+            "each attempt is a planning call",
+        )?;
         crate::error::in_range(
             "run",
             "max_trips_per_object",

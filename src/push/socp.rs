@@ -37,7 +37,7 @@ use serde::{Deserialize, Serialize};
 use super::fork::{ForkSettings, plan_fork};
 use super::row::{Fence, RowProblem, RowSolution, lower_bound, solve_row};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
 use crate::grasp::{Body, GraspModel, JawPose, Squeeze, squeeze, squeeze_bodies};
 use crate::outcome::{Outcome, Stats, Status};
@@ -120,14 +120,8 @@ impl SocpSettings {
                 "each order is a solve (720 = every order of six)",
             ),
         ];
-        for (field, value, (low, high), why) in counts {
-            if !(low..=high).contains(&value) {
-                return Err(Error::field(
-                    "socp",
-                    field,
-                    format!("must be between {low} and {high} ({why}), got {value}"),
-                ));
-            }
+        for (field, value, range, why) in counts {
+            crate::error::count_in_range("socp", field, value, range, why)?;
         }
         let lengths: [(&str, f64, (f64, f64)); 7] = [
             ("margin", self.margin, (0.0, 0.05)),

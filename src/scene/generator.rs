@@ -61,23 +61,21 @@ impl GeneratorSettings {
     pub fn validate(&self) -> Result<()> {
         self.workspace.validate()?;
         self.gripper.validate()?;
-        if !(1..=MAX_OBJECTS).contains(&self.objects) {
-            return Err(Error::field(
-                "generator",
-                "objects",
-                format!("must be between 1 and {MAX_OBJECTS}, got {}", self.objects),
-            ));
-        }
-        if !(1..=100_000_000).contains(&self.max_samples) {
-            return Err(Error::field(
-                "generator",
-                "max_samples",
-                format!(
-                    "must be between 1 and 100000000 (each sample is an overlap test), got {}",
-                    self.max_samples
-                ),
-            ));
-        }
+        // An empty table is a valid scene.
+        crate::error::count_in_range(
+            "generator",
+            "objects",
+            self.objects,
+            (0, MAX_OBJECTS),
+            "planning is measured up to 1000 objects",
+        )?;
+        crate::error::count_in_range(
+            "generator",
+            "max_samples",
+            self.max_samples,
+            (1, 100_000_000),
+            "each sample is an overlap test",
+        )?;
         if let Some(radius) = self.clearance_radius
             && !(radius.is_finite() && radius > 0.0)
         {
