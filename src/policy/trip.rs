@@ -22,8 +22,9 @@ use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
 
-/// The next trip: what to push, then where to grasp.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// The next trip: what to push, then where to grasp. Its fields are those of a trip in a run record
+/// (`pushmog plan`), without what the executor reports.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TripPlan {
     /// The clustering of the scene (empty for policies that do not cluster).
     pub clustering: Clustering,

@@ -1,0 +1,100 @@
+"""Planning: a :class:`Planner` plans one trip from the table it is shown (for a robot stack that owns
+its loop) or clears a whole scene with pushmog's own executors."""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Mapping, Optional, Union
+
+from . import _native
+from ._plan import Plan, TripPlan
+from ._scene import Scene, _plain
+
+__all__ = ["POLICIES", "Planner", "TripContext", "NoTrip"]
+
+POLICIES = ("sog", "mog", "push-mog", "push-mog-milp", "push-mog-socp", "push-mog-opt")
+
+
+class NoTrip(Exception):
+    """Raised by :meth:`Planner.plan_trip` with ``strict=True`` when no trip can be planned; the
+    reason is the message."""
+
+
+class TripContext:
+    """What a closed loop carries between trips: the seeded random stream that picks the next cluster
+    and the jaw poses whose grasps carried nothing (never proposed again). A loop that wants the
+    command line's choices uses one context, seeded as ``pushmog plan --seed``."""
+
+    __slots__ = ("_native",)
+
+    def __init__(self, seed: int = 0) -> None:
+        self._native = _native.TripContext(int(seed))
+
+    def record_failure(self, trip: TripPlan) -> None:
+        """The grasp of ``trip`` carried nothing: do not propose those jaws again."""
+        self._native.add_failed(json.dumps(trip.to_dict()["grasp"]["jaws"]))
+
+    @property
+    def failed(self) -> list:
+        """Jaw poses recorded as failed, as dicts."""
+        return json.loads(self._native.failed())
+
+
+class Planner:
+    """A policy with its settings.
+
+    ``policy`` is one of :data:`POLICIES`; ``settings`` overrides policy settings (a dict in the
+    format of ``pushmog schema policy``; missing fields keep their defaults). Invalid settings raise
+    ``ValueError`` naming the field. Planning releases the GIL, so threads plan in parallel."""
+
+    __slots__ = ("_native", "policy")
+
+    def __init__(self, policy: str = "push-mog-opt", settings: Optional[Mapping[str, Any]] = None) -> None:
+        if policy not in POLICIES:
+            raise ValueError(f"unknown policy `{policy}`; available: {', '.join(POLICIES)}")
+        text = None if settings is None else json.dumps(_plain(settings))
+        self._native = _native.Planner(policy, text)
+        self.policy = policy
+
+    @property
+    def settings(self) -> dict:
+        """The effective settings."""
+        return json.loads(self._native.settings())
+
+    def plan_trip(
+        self, scene: Scene, context: Optional[TripContext] = None, strict: bool = False
+    ) -> Optional[TripPlan]:
+        """Plans the next trip on ``scene`` as it is: pushes, then a grasp. ``context`` carries the
+        random stream and failed grasps between calls (default: a fresh one of seed 0, as Rust's
+        ``Policy::plan_trip``). Returns ``None`` when nothing can be planned (``strict``: raises
+        :class:`NoTrip` with the reason instead)."""
+        if not isinstance(scene, Scene):
+            raise TypeError(f"expected a pushmog.Scene, got {type(scene).__name__}")
+        native_context = None if context is None else context._native
+        answer = json.loads(self._native.plan_trip(scene._native, native_context))
+        if answer["trip"] is None:
+            if strict:
+                status = answer["status"]
+                reason = status.get("failed", {}).get("reason") if isinstance(status, dict) else status
+                raise NoTrip(str(reason))
+            return None
+        return TripPlan(answer["trip"], answer["status"], float(answer["seconds"]))
+
+    def run(
+        self,
+        scene: Scene,
+        executor: str = "ideal",
+        seed: int = 0,
+        sim_settings: Optional[Mapping[str, Any]] = None,
+        noiseless: bool = False,
+    ) -> Plan:
+        """Clears ``scene`` in pushmog's closed loop, as ``pushmog run``: ``executor="ideal"``
+        applies plans exactly, ``"sim"`` carries them out in the rapier3d simulator (``sim_settings``
+        as ``pushmog schema sim``; ``noiseless`` turns off perception and actuation noise)."""
+        if executor not in ("ideal", "sim"):
+            raise ValueError(f"unknown executor `{executor}`; available: ideal, sim")
+        text = None if sim_settings is None else json.dumps(_plain(sim_settings))
+        return Plan(json.loads(self._native.run(scene._native, executor, int(seed), text, bool(noiseless))))
+
+    def __repr__(self) -> str:
+        return f"Planner({self.policy!r})"

@@ -1,0 +1,374 @@
+//! The native half of the `pushmog` Python package (`pushmog._native`). Documents cross this boundary
+//! as JSON text in the formats the command line reads and writes, so a Python dict and a CLI file
+//! have one schema; the Python half (`python/pushmog/`) turns them into numpy arrays and small
+//! classes. Every call that plans, runs or checks releases the GIL while Rust works, so a thread pool
+//! plans scenes in parallel.
+//!
+//! Errors become Python exceptions: invalid input is a `ValueError` whose attributes name the culprit
+//! (`object`, `field`, `component`, `line`, `column`), a file problem an `OSError`, anything else a
+//! `RuntimeError`.
+
+use pushmog::exec::{Executor, Sim, SimSettings};
+use pushmog::grasp::JawPose;
+use pushmog::json::{self, to_json};
+use pushmog::plan::{Plan, verify};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings, TripContext as Context};
+use pushmog::render::{RenderOptions, plan_svg, scene_svg};
+use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set, generate_scene};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+
+/// A Python exception for a pushmog error, with the culprit's names as attributes.
+fn to_py_err(error: pushmog::Error) -> PyErr {
+    use pushmog::Error as E;
+    let message = error.to_string();
+    let (err, attributes): (PyErr, Vec<(&str, Option<String>)>) = match &error {
+        E::InvalidObject {
+            id, index, field, ..
+        } => (
+            PyValueError::new_err(message),
+            vec![
+                ("object", Some(id.0.to_string())),
+                ("index", Some(index.to_string())),
+                ("field", Some(field.to_string())),
+            ],
+        ),
+        E::DuplicateId { id, .. } => (
+            PyValueError::new_err(message),
+            vec![
+                ("object", Some(id.0.to_string())),
+                ("field", Some("id".into())),
+            ],
+        ),
+        E::Overlap { first, second, .. } => (
+            PyValueError::new_err(message),
+            vec![
+                ("object", Some(first.0.to_string())),
+                ("other", Some(second.0.to_string())),
+                ("field", Some("pose".into())),
+            ],
+        ),
+        E::InvalidField {
+            component, field, ..
+        } => (
+            PyValueError::new_err(message),
+            vec![
+                ("component", Some(component.clone())),
+                ("field", Some(field.clone())),
+            ],
+        ),
+        E::Json {
+            path, line, column, ..
+        } => (
+            PyValueError::new_err(message),
+            vec![
+                ("field", Some(path.clone())),
+                ("line", Some(line.to_string())),
+                ("column", Some(column.to_string())),
+            ],
+        ),
+        E::Placement { .. } => (PyValueError::new_err(message), Vec::new()),
+        E::Io { .. } => (PyOSError::new_err(message), Vec::new()),
+        _ => (PyRuntimeError::new_err(message), Vec::new()),
+    };
+    Python::attach(|py| {
+        let value = err.value(py);
+        for (name, attribute) in attributes {
+            // Numbers stay numbers on the Python side.
+            let set = match attribute.as_deref().map(str::parse::<i64>) {
+                Some(Ok(number)) if name != "field" && name != "component" => {
+                    value.setattr(name, number)
+                }
+                _ => value.setattr(name, attribute),
+            };
+            // An attribute that cannot be set leaves the message, which names the culprit too.
+            drop(set);
+        }
+    });
+    err
+}
+
+fn check<T>(result: pushmog::Result<T>) -> PyResult<T> {
+    result.map_err(to_py_err)
+}
+
+/// A validated scene (objects, gripper, workspace), parsed once and shared by every call.
+#[pyclass(module = "pushmog._native", frozen)]
+struct Scene {
+    scene: pushmog::Scene,
+}
+
+#[pymethods]
+impl Scene {
+    /// Reads and validates a scene JSON document; `source` names it in error messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, source = "<scene>"))]
+    fn from_json(py: Python<'_>, text: &str, source: &str) -> PyResult<Self> {
+        let scene = py.detach(|| json::scene_from_json(text, source));
+        Ok(Self {
+            scene: check(scene)?,
+        })
+    }
+
+    /// The scene as JSON, in the format `pushmog scene generate` writes.
+    fn to_json(&self) -> String {
+        to_json(&self.scene)
+    }
+
+    /// Minimum grasp diameter d* of every object, in scene order, metres.
+    fn grasp_diameters(&self) -> Vec<f64> {
+        (0..self.scene.len())
+            .map(|i| self.scene.min_grasp_diameter(i))
+            .collect()
+    }
+
+    /// Ids of the objects wider than the jaw gap (never graspable).
+    fn ungraspable(&self) -> Vec<u32> {
+        self.scene.ungraspable().iter().map(|id| id.0).collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.scene.len()
+    }
+}
+
+/// What a closed loop remembers between trips: the random stream that picks the next cluster and
+/// the jaw poses where grasps carried nothing (never proposed again).
+#[pyclass(module = "pushmog._native")]
+struct TripContext {
+    context: Context,
+}
+
+#[pymethods]
+impl TripContext {
+    #[new]
+    #[pyo3(signature = (seed = 0))]
+    fn new(seed: u64) -> Self {
+        Self {
+            context: Context::new(seed),
+        }
+    }
+
+    /// Records that a grasp at these jaws (JSON of a grasp's `jaws`) carried nothing.
+    fn add_failed(&mut self, jaws: &str) -> PyResult<()> {
+        let jaws: JawPose = check(json::from_json(jaws, "jaws"))?;
+        self.context.failed.push(jaws);
+        Ok(())
+    }
+
+    /// The jaw poses recorded as failed, as JSON.
+    fn failed(&self) -> String {
+        to_json(&self.context.failed)
+    }
+}
+
+/// A policy with its settings, ready to plan.
+#[pyclass(module = "pushmog._native", frozen)]
+struct Planner {
+    policy: Policy,
+}
+
+#[pymethods]
+impl Planner {
+    /// `policy` is a preset name (`sog`, `mog`, `push-mog`, `push-mog-milp`, `push-mog-socp`,
+    /// `push-mog-opt`); `settings` a JSON document of policy settings (missing fields keep their
+    /// defaults).
+    #[new]
+    #[pyo3(signature = (policy, settings = None))]
+    fn new(policy: &str, settings: Option<&str>) -> PyResult<Self> {
+        let kind: PolicyKind = check(policy.parse())?;
+        let settings = match settings {
+            Some(text) => check(json::from_json::<PolicySettings>(text, "settings"))?,
+            None => PolicySettings::default(),
+        };
+        Ok(Self {
+            policy: check(Policy::new(kind, settings))?,
+        })
+    }
+
+    /// The effective settings, as JSON.
+    fn settings(&self) -> String {
+        to_json(self.policy.settings())
+    }
+
+    /// The preset's name.
+    fn policy(&self) -> &'static str {
+        self.policy.kind().name()
+    }
+
+    /// Plans the next trip on `scene` as it is. Returns JSON `{"trip": …, "status": …,
+    /// "seconds": …}`: `trip` is `null` when there is none, and then `status` says why.
+    #[pyo3(signature = (scene, context = None))]
+    fn plan_trip(
+        &self,
+        py: Python<'_>,
+        scene: &Scene,
+        context: Option<&Bound<'_, TripContext>>,
+    ) -> PyResult<String> {
+        let planned = match context {
+            Some(context) => {
+                let mut context = context.borrow_mut();
+                let context = &mut context.context;
+                py.detach(|| self.policy.plan_trip_with(&scene.scene, context))
+            }
+            None => py.detach(|| self.policy.plan_trip(&scene.scene)),
+        };
+        let planned = check(planned)?;
+        let answer = serde_json::json!({
+            "trip": planned.value,
+            "status": planned.status,
+            "seconds": planned.stats.seconds,
+        });
+        Ok(to_json(&answer))
+    }
+
+    /// Clears `scene` in a closed loop with the `ideal` executor (plans applied exactly) or the
+    /// `sim` one (rapier3d physics; `sim_settings` JSON, `noiseless` turns noise off). Returns the
+    /// run record as JSON, as `pushmog plan` and `pushmog run --plan` write it.
+    #[pyo3(signature = (scene, executor = "ideal", seed = 0, sim_settings = None, noiseless = false))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        scene: &Scene,
+        executor: &str,
+        seed: u64,
+        sim_settings: Option<&str>,
+        noiseless: bool,
+    ) -> PyResult<String> {
+        let mut executor: Box<dyn Executor + Send> = match executor {
+            "ideal" => Box::new(self.policy.ideal()),
+            "sim" => {
+                let mut settings = match sim_settings {
+                    Some(text) => check(json::from_json::<SimSettings>(text, "sim_settings"))?,
+                    None => SimSettings::default(),
+                };
+                if noiseless {
+                    settings = SimSettings::noiseless_from(&settings);
+                }
+                // The command line's seed for the simulator, so a run here equals `pushmog run`.
+                Box::new(check(Sim::new(settings, seed ^ 0x5157_5349_4d00_0000))?)
+            }
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown executor `{other}`; available: ideal, sim"
+                )));
+            }
+        };
+        let plan = py.detach(|| self.policy.run(&scene.scene, executor.as_mut(), seed));
+        Ok(to_json(&check(plan)?))
+    }
+}
+
+/// Generates a seeded scene of `objects` objects from an object set (JSON; default the built-in
+/// set) on a `width` × `depth` workspace.
+#[pyfunction]
+#[pyo3(signature = (objects, seed, object_set = None, width = 0.6, depth = 0.45))]
+fn generate(
+    py: Python<'_>,
+    objects: usize,
+    seed: u64,
+    object_set: Option<&str>,
+    width: f64,
+    depth: f64,
+) -> PyResult<Scene> {
+    let set = match object_set {
+        Some(text) => check(json::from_json::<ObjectSet>(text, "object_set"))?,
+        None => builtin_object_set(),
+    };
+    let settings = GeneratorSettings {
+        objects,
+        workspace: Workspace::new(width, depth),
+        ..GeneratorSettings::default()
+    };
+    let scene = py.detach(|| generate_scene(&settings, &set, seed));
+    Ok(Scene {
+        scene: check(scene)?,
+    })
+}
+
+/// The built-in object set, as JSON.
+#[pyfunction]
+fn builtin_objects() -> String {
+    to_json(&builtin_object_set())
+}
+
+/// Checks a run record (JSON) with the independent verifier; returns the violations found, each
+/// as text (none: the plan is consistent).
+#[pyfunction]
+fn verify_plan(py: Python<'_>, plan: &str) -> PyResult<Vec<String>> {
+    let plan: Plan = check(json::from_json(plan, "plan"))?;
+    Ok(py.detach(|| verify(&plan).iter().map(ToString::to_string).collect()))
+}
+
+/// An SVG drawing of a scene: workspace, objects, ids, scale bar.
+#[pyfunction]
+#[pyo3(signature = (scene, title = "scene", pixels_per_metre = 1500.0))]
+fn scene_to_svg(scene: &Scene, title: &str, pixels_per_metre: f64) -> PyResult<String> {
+    let options = options(pixels_per_metre)?;
+    Ok(scene_svg(&scene.scene, &options, title))
+}
+
+/// An SVG drawing of a run record (JSON): clusters, pushes and jaws of every trip.
+#[pyfunction]
+#[pyo3(signature = (plan, title = "plan", pixels_per_metre = 1500.0))]
+fn plan_to_svg(py: Python<'_>, plan: &str, title: &str, pixels_per_metre: f64) -> PyResult<String> {
+    let options = options(pixels_per_metre)?;
+    let plan: Plan = check(json::from_json(plan, "plan"))?;
+    check(py.detach(|| plan_svg(&plan, &options, title)))
+}
+
+fn options(pixels_per_metre: f64) -> PyResult<RenderOptions> {
+    if !(pixels_per_metre.is_finite() && pixels_per_metre > 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "pixels_per_metre must be a positive number, got {pixels_per_metre}"
+        )));
+    }
+    Ok(RenderOptions {
+        pixels_per_metre,
+        ..RenderOptions::default()
+    })
+}
+
+/// The JSON Schema of a format: `scene`, `object-set`, `policy`, `sim`, `plan` or `trip`.
+#[pyfunction]
+fn schema(name: &str) -> PyResult<String> {
+    let value = match name {
+        "scene" => json::scene_schema(),
+        "object-set" => json::object_set_schema(),
+        "policy" => schema_value(schemars::schema_for!(PolicySettings)),
+        "sim" => schema_value(schemars::schema_for!(SimSettings)),
+        "plan" => schema_value(schemars::schema_for!(Plan)),
+        "trip" => schema_value(schemars::schema_for!(pushmog::policy::TripPlan)),
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "unknown schema `{name}`; available: scene, object-set, policy, sim, plan, trip"
+            )));
+        }
+    };
+    Ok(to_json(&value))
+}
+
+fn schema_value(schema: schemars::Schema) -> serde_json::Value {
+    serde_json::to_value(schema).unwrap_or_default()
+}
+
+/// The version of the Rust crate this package was built from.
+#[pyfunction]
+fn version() -> &'static str {
+    env!("CARGO_PKG_VERSION")
+}
+
+#[pymodule]
+fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    module.add_class::<Scene>()?;
+    module.add_class::<TripContext>()?;
+    module.add_class::<Planner>()?;
+    module.add_function(wrap_pyfunction!(generate, module)?)?;
+    module.add_function(wrap_pyfunction!(builtin_objects, module)?)?;
+    module.add_function(wrap_pyfunction!(verify_plan, module)?)?;
+    module.add_function(wrap_pyfunction!(scene_to_svg, module)?)?;
+    module.add_function(wrap_pyfunction!(plan_to_svg, module)?)?;
+    module.add_function(wrap_pyfunction!(schema, module)?)?;
+    module.add_function(wrap_pyfunction!(version, module)?)?;
+    Ok(())
+}
