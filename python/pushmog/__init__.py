@@ -37,6 +37,7 @@ __all__ = [
     "TripContext",
     "TripPlan",
     "builtin_object_set",
+    "default_settings",
     "generate_scene",
     "render_svg",
     "schema",
@@ -65,3 +66,9 @@ def render_svg(item: Union[Scene, Plan], title: str = "", pixels_per_metre: floa
 def schema(name: str) -> dict:
     """The JSON Schema of a format: ``scene``, ``object-set``, ``policy``, ``sim``, ``plan`` or ``trip``."""
     return json.loads(_native.schema(name))
+
+
+def default_settings(name: str) -> dict:
+    """Default settings: ``"policy"`` (every planner setting) or ``"sim"`` (the physical parameters
+    of pushmog's rapier simulator: friction, masses, pad size, grip force, speeds, noise)."""
+    return json.loads(_native.defaults(name))

@@ -162,12 +162,13 @@ class Plan:
 
     @property
     def status(self) -> Any:
-        """``"cleared"`` or ``{"stopped": {"remaining": [...], "reason": ...}}``."""
+        """``{"kind": "cleared"}`` or ``{"kind": "stopped", "remaining": [...], "reason": ...}``."""
         return self._document["status"]
 
     @property
     def cleared(self) -> bool:
-        return self._document["status"] == "cleared"
+        status = self._document["status"]
+        return isinstance(status, dict) and status.get("kind") == "cleared"
 
     @property
     def policy(self) -> str:

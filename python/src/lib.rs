@@ -18,34 +18,48 @@ use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+/// An attribute of a Python exception.
+enum Attribute {
+    Int(i64),
+    Float(f64),
+    Text(String),
+}
+
 /// A Python exception for a pushmog error, with the culprit's names as attributes.
 fn to_py_err(error: pushmog::Error) -> PyErr {
+    use Attribute::{Float, Int, Text};
     use pushmog::Error as E;
     let message = error.to_string();
-    let (err, attributes): (PyErr, Vec<(&str, Option<String>)>) = match &error {
+    let id = |id: &pushmog::scene::ObjectId| Int(i64::from(id.0));
+    let (err, attributes): (PyErr, Vec<(&str, Attribute)>) = match &error {
         E::InvalidObject {
-            id, index, field, ..
+            id: object,
+            index,
+            field,
+            ..
         } => (
             PyValueError::new_err(message),
             vec![
-                ("object", Some(id.0.to_string())),
-                ("index", Some(index.to_string())),
-                ("field", Some(field.to_string())),
+                ("object", id(object)),
+                ("index", Int(*index as i64)),
+                ("field", Text(field.to_string())),
             ],
         ),
-        E::DuplicateId { id, .. } => (
+        E::DuplicateId { id: object, .. } => (
             PyValueError::new_err(message),
-            vec![
-                ("object", Some(id.0.to_string())),
-                ("field", Some("id".into())),
-            ],
+            vec![("object", id(object)), ("field", Text("id".into()))],
         ),
-        E::Overlap { first, second, .. } => (
+        E::Overlap {
+            first,
+            second,
+            depth,
+        } => (
             PyValueError::new_err(message),
             vec![
-                ("object", Some(first.0.to_string())),
-                ("other", Some(second.0.to_string())),
-                ("field", Some("pose".into())),
+                ("object", id(first)),
+                ("other", id(second)),
+                ("field", Text("pose".into())),
+                ("depth", Float(*depth)),
             ],
         ),
         E::InvalidField {
@@ -53,8 +67,8 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
         } => (
             PyValueError::new_err(message),
             vec![
-                ("component", Some(component.clone())),
-                ("field", Some(field.clone())),
+                ("component", Text(component.clone())),
+                ("field", Text(field.clone())),
             ],
         ),
         E::Json {
@@ -62,9 +76,9 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
         } => (
             PyValueError::new_err(message),
             vec![
-                ("field", Some(path.clone())),
-                ("line", Some(line.to_string())),
-                ("column", Some(column.to_string())),
+                ("field", Text(path.clone())),
+                ("line", Int(*line as i64)),
+                ("column", Int(*column as i64)),
             ],
         ),
         E::Placement { .. } => (PyValueError::new_err(message), Vec::new()),
@@ -74,12 +88,10 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
     Python::attach(|py| {
         let value = err.value(py);
         for (name, attribute) in attributes {
-            // Numbers stay numbers on the Python side.
-            let set = match attribute.as_deref().map(str::parse::<i64>) {
-                Some(Ok(number)) if name != "field" && name != "component" => {
-                    value.setattr(name, number)
-                }
-                _ => value.setattr(name, attribute),
+            let set = match attribute {
+                Int(number) => value.setattr(name, number),
+                Float(number) => value.setattr(name, number),
+                Text(text) => value.setattr(name, text),
             };
             // An attribute that cannot be set leaves the message, which names the culprit too.
             drop(set);
@@ -352,6 +364,18 @@ fn schema_value(schema: schemars::Schema) -> serde_json::Value {
     serde_json::to_value(schema).unwrap_or_default()
 }
 
+/// Default settings, as JSON: `policy` or `sim` (the rapier simulator's physical parameters).
+#[pyfunction]
+fn defaults(name: &str) -> PyResult<String> {
+    match name {
+        "policy" => Ok(to_json(&PolicySettings::default())),
+        "sim" => Ok(to_json(&SimSettings::default())),
+        _ => Err(PyValueError::new_err(format!(
+            "unknown settings `{name}`; available: policy, sim"
+        ))),
+    }
+}
+
 /// The version of the Rust crate this package was built from.
 #[pyfunction]
 fn version() -> &'static str {
@@ -369,6 +393,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(scene_to_svg, module)?)?;
     module.add_function(wrap_pyfunction!(plan_to_svg, module)?)?;
     module.add_function(wrap_pyfunction!(schema, module)?)?;
+    module.add_function(wrap_pyfunction!(defaults, module)?)?;
     module.add_function(wrap_pyfunction!(version, module)?)?;
     Ok(())
 }

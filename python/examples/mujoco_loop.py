@@ -1,0 +1,439 @@
+#!/usr/bin/env python3
+"""pushmog as the planner of a MuJoCo simulation: a second, independent physics engine.
+
+MuJoCo holds the table, the objects (each a prism: the convex hull of its outline at the table and
+at its height) and a two-finger gripper. Every trip, pushmog plans from the poses MuJoCo reports; the
+gripper here carries out the fork pushes and the grasp; what the lift takes clear of the table goes
+to the bin. The loop repeats until the table is clear, then prints the objects of every trip, the
+objects per trip (OpT), and how often MuJoCo carried exactly what pushmog predicted, beside the same
+figure from pushmog's own rapier simulator on the same scene.
+
+The physical settings are pushmog's simulator defaults (``pushmog.default_settings("sim")``):
+friction pad-object, object-object and object-table, object density, finger mass, pad height, the
+gripper's plate thickness and pad width from the scene, a grip of at most ``grip_force`` per finger
+from one motor driving both fingers symmetrically, and the jaw, push and vertical speeds.
+
+    python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+try:
+    import mujoco
+except ImportError:  # pragma: no cover - reported to the user
+    sys.exit("mujoco_loop.py needs MuJoCo: pip install mujoco")
+
+import pushmog
+
+GRIP_STIFFNESS = 5000.0  # N/m, the pads' servo: the 20 N cap is reached 4 mm behind the target
+TIMESTEP = 0.001  # s; objects move well under 0.1 mm per step at these speeds
+TRANSFER_SPEED = 0.25  # m/s, moves through the air (not timed: only what happens on the table matters)
+BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the table
+
+
+def prism_mesh(vertices: np.ndarray, height: float) -> str:
+    """Mesh vertices of a prism: the outline at z = 0 and at z = height."""
+    points = [(x, y, z) for z in (0.0, height) for x, y in vertices]
+    return " ".join(f"{x:.9g} {y:.9g} {z:.9g}" for x, y, z in points)
+
+
+def model_xml(scene: pushmog.Scene, sim: dict) -> str:
+    """An MJCF model of the scene: table plane, prisms on free joints, a gripper on four servoed joints
+    (x, y, z, yaw) with two pads on slide joints along its closing axis (local x)."""
+    gripper = scene.gripper
+    thickness = gripper["plate_thickness"]
+    pad_width = gripper["plate_length"]
+    pad_height = sim["finger_height"]
+    half_stroke = gripper["stroke"] / 2 + thickness / 2
+    assets, bodies = [], []
+    for obj in scene.objects:
+        name = f"object{obj.id}"
+        assets.append(f'<mesh name="{name}" vertex="{prism_mesh(obj.vertices, obj.height)}"/>')
+        c, s = math.cos(obj.pose.yaw / 2), math.sin(obj.pose.yaw / 2)
+        mass = "" if obj.mass is None else f' mass="{obj.mass}"'
+        bodies.append(
+            f'<body name="{name}" pos="{obj.pose.x} {obj.pose.y} 0" quat="{c} 0 0 {s}">'
+            f'<freejoint/><geom type="mesh" mesh="{name}" class="object"{mass}/></body>'
+        )
+    grip = sim["grip_force"]
+    finger_mass = sim["finger_mass"]
+    # Servo gains: the hand (1 kg) and pads follow their targets closely (natural frequencies
+    # ~140 rad/s and ~300 rad/s, critically damped); the pads' squeeze is capped at the grip force.
+    return f"""
+<mujoco model="pushmog-table">
+  <option timestep="{TIMESTEP}" integrator="implicitfast" cone="elliptic" impratio="10">
+    <flag multiccd="enable"/>
+  </option>
+  <default>
+    <geom solref="0.004 1" solimp="0.95 0.99 0.0005"/>
+    <default class="object">
+      <geom friction="{sim['friction_object']}" density="{sim['density']}"/>
+    </default>
+    <default class="pad">
+      <geom type="box" size="{thickness / 2} {pad_width / 2} {pad_height / 2}" mass="{finger_mass}"
+            friction="{sim['friction_finger']}" priority="1"/>
+    </default>
+  </default>
+  <asset>{''.join(assets)}</asset>
+  <worldbody>
+    <geom name="table" type="plane" size="0 0 0.01" friction="{sim['friction_table']}"
+          priority="2"/>
+    <body name="hand" pos="0 0 0" gravcomp="1">
+      <joint name="x" type="slide" axis="1 0 0"/>
+      <joint name="y" type="slide" axis="0 1 0"/>
+      <joint name="z" type="slide" axis="0 0 1"/>
+      <joint name="yaw" type="hinge" axis="0 0 1"/>
+      <inertial pos="0 0 0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+      <body name="left" gravcomp="1">
+        <joint name="left" type="slide" axis="1 0 0" range="{-half_stroke} 0"/>
+        <geom name="left" class="pad" pos="0 0 {pad_height / 2}"/>
+      </body>
+      <body name="right" gravcomp="1">
+        <joint name="right" type="slide" axis="1 0 0" range="0 {half_stroke}"/>
+        <geom name="right" class="pad" pos="0 0 {pad_height / 2}"/>
+      </body>
+    </body>
+    {''.join(bodies)}
+  </worldbody>
+  <tendon>
+    <fixed name="closing"><joint joint="left" coef="1"/><joint joint="right" coef="-1"/></fixed>
+  </tendon>
+  <equality>
+    <joint joint1="left" joint2="right" polycoef="0 -1 0 0 0"/>
+  </equality>
+  <actuator>
+    <position name="x" joint="x" kp="20000" kv="283"/>
+    <position name="y" joint="y" kp="20000" kv="283"/>
+    <position name="z" joint="z" kp="20000" kv="283"/>
+    <position name="yaw" joint="yaw" kp="200" kv="2.83"/>
+    <position name="grip" tendon="closing" kp="{GRIP_STIFFNESS}" kv="{2 * math.sqrt(GRIP_STIFFNESS * finger_mass):.3g}" forcelimited="true"
+              forcerange="{-grip} {grip}"/>
+  </actuator>
+</mujoco>"""
+
+
+@dataclass
+class Record:
+    """What happened in one trip."""
+
+    predicted: list
+    carried: list
+    pushes: int
+    landed: bool = False
+
+
+@dataclass
+class World:
+    """The MuJoCo model and data, and which object is which body."""
+
+    scene: pushmog.Scene
+    sim: dict
+    model: "mujoco.MjModel" = field(init=False)
+    data: "mujoco.MjData" = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.model = mujoco.MjModel.from_xml_string(model_xml(self.scene, self.sim))
+        self.data = mujoco.MjData(self.model)
+        self.objects = {o.id: o for o in self.scene.objects}
+        self.body = {o.id: self.model.body(f"object{o.id}").id for o in self.scene.objects}
+        self.qpos = {i: self.model.jnt_qposadr[self.model.body_jntadr[b]] for i, b in self.body.items()}
+        self.qvel = {i: self.model.jnt_dofadr[self.model.body_jntadr[b]] for i, b in self.body.items()}
+        self.pads = {self.model.geom("left").id, self.model.geom("right").id}
+        self.geom_object = {g: i for i, b in self.body.items() for g in range(self.model.ngeom) if self.model.geom_bodyid[g] == b}
+        self.binned: list = []
+        half = self.scene.gripper["stroke"] / 2
+        # Park the gripper high above the table, jaws fully open.
+        self.target = np.array([0.3, 0.2, 0.3, 0.0, -2 * half])
+        for name, value in zip(("x", "y", "z", "yaw"), self.target[:4]):
+            self.data.qpos[self.model.jnt_qposadr[self.model.joint(name).id]] = value
+        self.data.qpos[self.model.jnt_qposadr[self.model.joint("left").id]] = -half
+        self.data.qpos[self.model.jnt_qposadr[self.model.joint("right").id]] = half
+        self.data.ctrl[:] = self.target
+        mujoco.mj_forward(self.model, self.data)
+        self.wait(0.3)
+
+    # -- motion --------------------------------------------------------------------------------
+    def step(self) -> None:
+        self.data.ctrl[:] = self.target
+        mujoco.mj_step(self.model, self.data)
+
+    def wait(self, seconds: float) -> None:
+        for _ in range(int(round(seconds / TIMESTEP))):
+            self.step()
+
+    def move(self, goal: np.ndarray, speed: float, watch_landing: bool = False) -> bool:
+        """Moves the hand target (x, y, z, yaw) in a straight line at `speed` (m/s; yaw turns along).
+        With `watch_landing`, stops and returns True as soon as a pad rests on top of an object."""
+        start = self.target[:4].copy()
+        distance = float(np.linalg.norm(goal[:3] - start[:3]))
+        steps = max(1, int(math.ceil(distance / speed / TIMESTEP)))
+        for k in range(1, steps + 1):
+            self.target[:4] = start + (goal - start) * (k / steps)
+            self.step()
+            if watch_landing and self.pad_on_top():
+                return True
+        self.wait(0.02)
+        return watch_landing and self.pad_on_top()
+
+    def set_opening(self, opening: float) -> None:
+        """Opens the jaws to `opening` between the plate centres, and waits until they are there."""
+        self.target[4] = -opening
+        self.wait(0.15)
+
+    def close(self) -> None:
+        """Closes at the jaw speed with at most the grip force per pad: the servo's target keeps
+        shrinking at the jaw speed; once the pads lag it by more than the grip force over the servo's
+        stiffness, the force is at its cap, and the target goes straight to fully closed (the cap
+        holds the squeeze; if an object slips, the pads follow)."""
+        speed = self.sim["jaw_speed"]
+        closed = -self.scene.gripper["plate_thickness"]
+        left = self.model.jnt_qposadr[self.model.joint("left").id]
+        right = self.model.jnt_qposadr[self.model.joint("right").id]
+        saturated = self.sim["grip_force"] / GRIP_STIFFNESS + 0.001
+        while self.target[4] < closed:
+            self.target[4] = min(closed, self.target[4] + speed * TIMESTEP)
+            self.step()
+            if self.target[4] - (self.data.qpos[left] - self.data.qpos[right]) > saturated:
+                self.target[4] = closed
+        self.wait(0.05)
+
+    def pad_on_top(self) -> bool:
+        """Whether a pad touches an object with a mostly vertical contact normal (it came down on it)."""
+        for contact in self.data.contact[: self.data.ncon]:
+            pair = {contact.geom1, contact.geom2}
+            if pair & self.pads and any(g in self.geom_object for g in pair) and contact.dist < 0:
+                if abs(contact.frame[2]) > 0.5:
+                    return True
+        return False
+
+    # -- what the camera sees --------------------------------------------------------------------
+    def pose(self, object_id: int) -> tuple:
+        """(x, y, yaw, tilt, lowest point) of an object's body frame."""
+        body = self.body[object_id]
+        rotation = self.data.xmat[body].reshape(3, 3)
+        x, y, z = self.data.xpos[body]
+        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+        tilt = math.acos(max(-1.0, min(1.0, rotation[2, 2])))
+        obj = self.objects[object_id]
+        corners = [rotation @ np.array([vx, vy, vz]) for vx, vy in obj.vertices for vz in (0.0, obj.height)]
+        lowest = z + min(c[2] for c in corners)
+        return x, y, yaw, tilt, lowest
+
+    def observe(self, noise: float, rng: np.random.Generator) -> tuple:
+        """The table as seen from above: a pushmog scene of the upright objects inside the workspace,
+        and the ids lost (toppled past the simulator's topple angle, or off the workspace)."""
+        low, high = self.scene.workspace
+        objects, lost = [], {}
+        for object_id, obj in self.objects.items():
+            if object_id in self.binned:
+                continue
+            x, y, yaw, tilt, _ = self.pose(object_id)
+            if tilt > self.sim["topple_angle"]:
+                lost[object_id] = "toppled"
+                continue
+            if noise > 0:
+                x, y = x + rng.normal(0, noise), y + rng.normal(0, noise)
+                yaw += rng.normal(0, self.sim["perception_yaw"])
+            seen = pushmog.Object(object_id, obj.vertices, pushmog.Pose(x, y, yaw), obj.height, obj.name, obj.mass)
+            outline = seen.world_vertices()
+            if (outline < low).any() or (outline > high).any():
+                lost[object_id] = "outside the workspace"
+                continue
+            objects.append(seen)
+        return separated(objects, self.scene), lost
+
+    # -- actions ---------------------------------------------------------------------------------
+    def tallest(self) -> float:
+        return max((o.height for i, o in self.objects.items() if i not in self.binned), default=0.0)
+
+    def push(self, push: pushmog.Push, offset: np.ndarray) -> bool:
+        """A fork push; True when a pad came down on an object (the action stops there)."""
+        above = self.tallest() + 0.01
+        tip = push.height if push.height is not None else self.sim["push_height_fraction"] * self.objects[push.object].height
+        approach, end = push.path[0] + offset[:2], push.path[2] + offset[:2]
+        yaw = push.jaw_angle + offset[2]
+        self.move(np.array([*self.target[:2], above, self.target[3]]), TRANSFER_SPEED)
+        self.set_opening(push.opening)
+        self.move(np.array([*approach, above, yaw]), TRANSFER_SPEED)
+        if self.move(np.array([*approach, tip, yaw]), self.sim["vertical_speed"], watch_landing=True):
+            self.move(np.array([*approach, above, yaw]), self.sim["vertical_speed"])
+            return True
+        self.move(np.array([*end, tip, yaw]), self.sim["push_speed"])
+        self.move(np.array([*end, above, yaw]), self.sim["vertical_speed"])
+        return False
+
+    def grasp(self, grasp: pushmog.Grasp, offset: np.ndarray) -> tuple:
+        """Lower, close, lift, settle; the objects lifted clear of the table go to the bin. Returns
+        (carried ids, whether a pad came down on an object)."""
+        above = self.tallest() + 0.01
+        center = grasp.jaws.center + offset[:2]
+        yaw = grasp.jaws.angle + offset[2]
+        self.move(np.array([*self.target[:2], above, self.target[3]]), TRANSFER_SPEED)
+        self.set_opening(grasp.jaws.opening)
+        self.move(np.array([*center, above, yaw]), TRANSFER_SPEED)
+        if self.move(np.array([*center, self.sim["grasp_height"], yaw]), self.sim["vertical_speed"], watch_landing=True):
+            self.move(np.array([*center, above, yaw]), self.sim["vertical_speed"])
+            return [], True
+        self.close()
+        lift = self.sim["lift"]
+        self.move(np.array([*center, self.sim["grasp_height"] + lift, yaw]), self.sim["vertical_speed"])
+        self.wait(self.sim["settle"])
+        carried = [i for i in self.objects if i not in self.binned and self.pose(i)[4] > 0.5 * lift]
+        for object_id in carried:
+            self.to_bin(object_id)
+        self.set_opening(grasp.jaws.opening)
+        self.wait(0.2)  # whatever dropped settles before the next observation
+        return carried, False
+
+    def to_bin(self, object_id: int) -> None:
+        spot = BIN + np.array([0.1 * len(self.binned), 0.0])
+        address, dof = self.qpos[object_id], self.qvel[object_id]
+        self.data.qpos[address : address + 7] = [spot[0], spot[1], 0.0, 1, 0, 0, 0]
+        self.data.qvel[dof : dof + 6] = 0
+        self.binned.append(object_id)
+        mujoco.mj_forward(self.model, self.data)
+
+
+def separated(objects: list, scene: pushmog.Scene) -> pushmog.Scene:
+    """A pushmog scene of `objects`. Soft contacts let touching objects interpenetrate by a fraction of
+    a millimetre, which a scene refuses (as a camera's segmentation would never report it): each
+    reported overlap is undone by moving the second object straight away from the first."""
+    poses = {o.id: o for o in objects}
+    for _ in range(10 * len(objects) + 10):
+        try:
+            return pushmog.Scene.from_objects(poses.values(), gripper=scene.gripper, workspace=scene.workspace)
+        except ValueError as error:
+            if getattr(error, "field", None) != "pose" or not hasattr(error, "other"):
+                raise
+            first, second = poses[error.object], poses[error.other]
+            away = second.world_vertices().mean(axis=0) - first.world_vertices().mean(axis=0)
+            away /= max(float(np.linalg.norm(away)), 1e-9)
+            shift = away * (error.depth + 1e-4)
+            moved = pushmog.Pose(second.pose.x + shift[0], second.pose.y + shift[1], second.pose.yaw)
+            poses[second.id] = pushmog.Object(second.id, second.vertices, moved, second.height, second.name, second.mass)
+    raise RuntimeError("could not separate the observed outlines")
+
+
+def agreement(pairs: list) -> dict:
+    """For each predicted count k: grasps, and how many carried exactly the predicted objects."""
+    table: dict = {}
+    for predicted, carried in pairs:
+        k = len(predicted)
+        row = table.setdefault(k, [0, 0])
+        row[0] += 1
+        row[1] += int(sorted(predicted) == sorted(carried))
+    return dict(sorted(table.items()))
+
+
+def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise: bool, log=print) -> dict:
+    """Runs the loop on one scene; returns the trips and figures."""
+    sim = pushmog.default_settings("sim")
+    world = World(scene, sim)
+    rng = np.random.default_rng(seed)
+    context = pushmog.TripContext(seed)
+    records: list = []
+    in_a_row, status = 0, "cleared"
+    perception = sim["perception_position"] if noise else 0.0
+    while True:
+        observed, lost = world.observe(perception, rng)
+        if len(observed) == 0:
+            status = "cleared" if not lost else f"stopped: {len(lost)} lost ({', '.join(sorted(set(lost.values())))})"
+            break
+        if in_a_row >= planner.settings["run"]["max_failed_attempts"] or len(records) >= 3 * len(scene):
+            status = f"stopped: {len(observed)} left after {in_a_row} fruitless attempts"
+            break
+        trip = planner.plan_trip(observed, context)
+        if trip is None:
+            in_a_row += 1
+            continue
+        offset = np.zeros(3)
+        if noise:
+            offset = np.array([rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_yaw"])])
+        landed = False
+        for push in trip.pushes:
+            if world.push(push, offset):
+                landed = True
+                break
+        carried = []
+        if not landed:
+            carried, landed = world.grasp(trip.grasp, offset)
+        records.append(Record(trip.grasp.objects, carried, len(trip.pushes), landed))
+        log(f"trip {len(records):2d}: {len(trip.pushes)} pushes, predicted {trip.grasp.objects}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
+        if carried:
+            in_a_row = 0
+        else:
+            in_a_row += 1
+            context.record_failure(trip)
+    carried = sum(len(r.carried) for r in records)
+    return {
+        "status": status,
+        "trips": len(records),
+        "carried": carried,
+        "objects_per_trip": carried / len(records) if records else 0.0,
+        "carried_per_trip": [len(r.carried) for r in records],
+        "agreement": agreement([(r.predicted, r.carried) for r in records]),
+    }
+
+
+def rapier_agreement(plan: pushmog.Plan) -> dict:
+    return agreement([(t["grasp"]["objects"], t["carried"]) for t in plan.trips])
+
+
+def percent(table: dict, multi: bool) -> str:
+    rows = [v for k, v in table.items() if (k >= 2) == multi]
+    n, held = sum(r[0] for r in rows), sum(r[1] for r in rows)
+    return f"{held}/{n} ({100.0 * held / n:.0f}%)" if n else "0/0"
+
+
+def main(argv: Optional[list] = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--objects", type=int, default=34)
+    parser.add_argument("--seed", type=int, default=1, help="scene seed (pushmog scene generate --seed)")
+    parser.add_argument("--scene", help="a scene JSON file instead of a generated one")
+    parser.add_argument("--policy", default="push-mog-opt", choices=pushmog.POLICIES)
+    parser.add_argument("--noise", action="store_true", help="perception and actuation noise as pushmog's simulator")
+    parser.add_argument("--json", help="write the figures to this file")
+    parser.add_argument("--quiet", action="store_true")
+    args = parser.parse_args(argv)
+
+    scene = pushmog.Scene.from_json(args.scene) if args.scene else pushmog.generate_scene(args.objects, args.seed)
+    planner = pushmog.Planner(args.policy)
+    log = (lambda *_: None) if args.quiet else print
+    log(f"MuJoCo {mujoco.__version__}, pushmog {pushmog.__version__}, policy {args.policy}, {len(scene)} objects")
+    result = clear_table(scene, planner, args.seed, args.noise, log)
+    rapier = planner.run(scene, executor="sim", seed=args.seed, noiseless=not args.noise)
+    result["rapier"] = {
+        "status": "cleared" if rapier.cleared else json.dumps(rapier.status),
+        "trips": len(rapier.trips),
+        "objects_per_trip": rapier.objects_per_trip(),
+        "agreement": rapier_agreement(rapier),
+    }
+    print(f"MuJoCo: {result['status']}; {result['carried']} objects in {result['trips']} trips; objects per trip {result['objects_per_trip']:.3f}")
+    print(f"objects per trip, trip by trip: {result['carried_per_trip']}")
+    print("grasps that carried exactly what pushmog predicted:")
+    print(f"  predicted k   MuJoCo        rapier (pushmog's simulator, same scene, {'noisy' if args.noise else 'noise-free'})")
+    for k in sorted(set(result["agreement"]) | set(result["rapier"]["agreement"])):
+        m = result["agreement"].get(k, [0, 0])
+        r = result["rapier"]["agreement"].get(k, [0, 0])
+        print(f"  {k:>11}   {m[1]:>3}/{m[0]:<3}       {r[1]:>3}/{r[0]:<3}")
+    print(f"  single-object  MuJoCo {percent(result['agreement'], False)}, rapier {percent(result['rapier']['agreement'], False)}")
+    print(f"  multi-object   MuJoCo {percent(result['agreement'], True)}, rapier {percent(result['rapier']['agreement'], True)}")
+    print(f"rapier: {result['rapier']['status']}; {result['rapier']['trips']} trips; objects per trip {result['rapier']['objects_per_trip']:.3f}")
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as out:
+            json.dump(result, out, indent=2)
+    return 0 if result["status"] == "cleared" else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
