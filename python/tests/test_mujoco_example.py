@@ -1,0 +1,56 @@
+"""The MuJoCo example on one small scene (skipped, with the reason, only if MuJoCo is not installed)."""
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "mujoco_loop.py"
+
+
+def load_example():
+    pytest.importorskip("mujoco", reason="MuJoCo is not installed (pip install mujoco); the example is not run")
+    spec = importlib.util.spec_from_file_location("mujoco_loop", EXAMPLE)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["mujoco_loop"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_mujoco_loop_on_a_small_scene(tmp_path, capsys):
+    example = load_example()
+    out = tmp_path / "figures.json"
+    code = example.main(["--objects", "6", "--seed", "1", "--policy", "push-mog-opt", "--json", str(out), "--quiet"])
+    printed = capsys.readouterr().out
+    figures = json.loads(out.read_text())
+    assert "objects per trip" in printed and "rapier" in printed
+    assert figures["trips"] == len(figures["carried_per_trip"]) > 0
+    assert figures["carried"] == sum(figures["carried_per_trip"]) > 0
+    assert figures["carried"] <= 6
+    # Every trip is counted once in the agreement table, under its predicted object count.
+    assert sum(n for n, _ in figures["agreement"].values()) == figures["trips"]
+    assert code == (0 if figures["status"] == "cleared" else 1)
+
+
+def test_the_mujoco_model_is_the_scene(tmp_path):
+    example = load_example()
+    import mujoco
+    import pushmog
+
+    scene = pushmog.generate_scene(4, seed=2)
+    world = example.World(scene, pushmog.default_settings("sim"))
+    for obj in scene.objects:
+        x, y, yaw, tilt, lowest = world.pose(obj.id)
+        # Resting on the table where the scene puts it, upright.
+        assert abs(x - obj.pose.x) < 1e-3 and abs(y - obj.pose.y) < 1e-3
+        assert abs((yaw - obj.pose.yaw + 3.14159) % 6.28318 - 3.14159) < 0.01
+        assert tilt < 0.01 and abs(lowest) < 1e-3
+        # Its mass from the density, as pushmog's simulator takes it.
+        body = world.model.body(f"object{obj.id}").id
+        area = 0.5 * abs(sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(obj.vertices, list(obj.vertices[1:]) + [obj.vertices[0]])))
+        assert world.model.body_mass[body] == pytest.approx(1000 * area * obj.height, rel=1e-3)
+    observed, lost = world.observe(0.0, None)
+    assert not lost and len(observed) == len(scene)
+    assert mujoco.mj_version() > 0

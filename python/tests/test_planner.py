@@ -1,0 +1,177 @@
+"""Planning through Python: trips equal to the command line's, whole runs that pass the verifier,
+errors as exceptions, and the GIL released while Rust plans."""
+
+import json
+import subprocess
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+import pushmog
+
+
+def trip_fields(trip: dict) -> dict:
+    """A run record's trip without what the executor reports."""
+    return {k: trip[k] for k in ("clustering", "cluster", "pushes", "skipped_pushes", "grasp")}
+
+
+@pytest.mark.parametrize("policy", pushmog.POLICIES)
+def test_plan_trip_equals_the_cli_plan(policy, cli, tmp_path):
+    scene = pushmog.generate_scene(12, seed=7)
+    path = tmp_path / "scene.json"
+    path.write_text(scene.to_json())
+    for seed in (0, 5):
+        written = subprocess.run(
+            [str(cli), "plan", str(path), "--policy", policy, "--seed", str(seed)],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
+        first = json.loads(written)["trips"][0]
+        trip = pushmog.Planner(policy).plan_trip(scene, pushmog.TripContext(seed))
+        assert trip is not None
+        assert trip.to_dict() == trip_fields(first)
+
+
+def test_plan_trip_equals_the_first_trip_of_a_run(scene):
+    planner = pushmog.Planner("push-mog-opt")
+    plan = planner.run(scene, executor="ideal", seed=3)
+    trip = planner.plan_trip(scene, pushmog.TripContext(3))
+    assert trip.to_dict() == trip_fields(plan.trips[0])
+
+
+def test_trip_parts_are_numpy_friendly(scene):
+    trip = pushmog.Planner("push-mog").plan_trip(scene, pushmog.TripContext(1))
+    assert trip.grasp.objects and set(trip.grasp.objects) <= set(scene.ids)
+    assert trip.grasp.jaws.center.shape == (2,)
+    assert trip.grasp.jaws.opening <= scene.gripper["stroke"] + 1e-12
+    for push in trip.pushes:
+        assert push.path.shape == (3, 2)
+        # The object slides along the push direction by the push distance, yaw unchanged.
+        moved = np.array([push.end.x - push.start.x, push.end.y - push.start.y])
+        assert np.allclose(moved, push.direction * push.distance, atol=1e-9)
+        assert push.end.yaw == push.start.yaw
+    assert json.loads(trip.to_json()) == trip.to_dict()
+
+
+def test_closed_loop_through_plan_trip_clears_a_small_table(small_scene):
+    """The robot stack owns the loop: it applies each trip exactly as planned (the pushed objects at
+    their planned poses, the grasped ones gone), records failures, and asks again."""
+    planner = pushmog.Planner("push-mog-opt")
+    context = pushmog.TripContext(2)
+    table, trips = small_scene, 0
+    while len(table) and trips < 3 * len(small_scene):
+        trip = planner.plan_trip(table, context, strict=True)
+        trips += 1
+        if trip.pushes:
+            table = table.with_poses({p.object: (p.end.x, p.end.y, p.end.yaw) for p in trip.pushes})
+        table = table.without(trip.grasp.objects)
+    assert len(table) == 0
+    assert trips <= len(small_scene)
+
+
+@pytest.mark.parametrize("policy", pushmog.POLICIES)
+def test_runs_pass_the_verifier(policy, small_scene):
+    plan = pushmog.Planner(policy).run(small_scene, executor="ideal", seed=1)
+    assert plan.cleared
+    assert plan.objects_carried() == len(small_scene)
+    assert pushmog.verify(plan) == []
+
+
+def test_simulated_run_is_reproducible_and_verified(small_scene):
+    planner = pushmog.Planner("push-mog")
+    first = planner.run(small_scene, executor="sim", seed=4)
+    again = planner.run(small_scene, executor="sim", seed=4)
+    assert first.to_dict() == again.to_dict()
+    assert first.executor == "sim"
+    assert pushmog.verify(first) == []
+    assert sum(first.carried_per_trip()) == first.objects_carried()
+
+
+def test_verifier_finds_a_tampered_plan(small_scene):
+    plan = pushmog.Planner("push-mog").run(small_scene, seed=1).to_dict()
+    plan["trips"][0]["grasp"]["objects"] = [9999]
+    assert pushmog.verify(pushmog.Plan(plan)) != []
+
+
+def test_plans_are_read_by_the_cli(small_scene, cli, tmp_path):
+    plan = pushmog.Planner("push-mog-opt").run(small_scene, seed=1)
+    path = tmp_path / "plan.json"
+    plan.save(path)
+    checked = subprocess.run([str(cli), "verify", str(path)], capture_output=True, text=True)
+    assert checked.returncode == 0, checked.stderr
+    assert pushmog.Plan.from_json(path).to_dict() == plan.to_dict()
+
+
+def test_settings_are_applied_and_checked(small_scene):
+    planner = pushmog.Planner("push-mog", settings={"run": {"max_failed_attempts": 3}})
+    assert planner.settings["run"]["max_failed_attempts"] == 3
+    with pytest.raises(ValueError) as raised:
+        pushmog.Planner("push-mog", settings={"run": {"max_failed_attempts": -1}})
+    assert "max_failed_attempts" in str(raised.value)
+    with pytest.raises(ValueError) as raised:
+        pushmog.Planner("push-mog", settings={"no_such_setting": 1})
+    assert "no_such_setting" in str(raised.value)
+    with pytest.raises(ValueError, match="unknown policy"):
+        pushmog.Planner("fastest")
+    with pytest.raises(ValueError, match="unknown executor"):
+        pushmog.Planner("sog").run(small_scene, executor="gazebo")
+    with pytest.raises(TypeError):
+        pushmog.Planner("sog").plan_trip(small_scene.to_dict())
+
+
+def test_empty_table_has_no_trip():
+    empty = pushmog.Scene.from_objects([])
+    assert pushmog.Planner("push-mog").plan_trip(empty) is None
+    with pytest.raises(pushmog.NoTrip, match="empty"):
+        pushmog.Planner("push-mog").plan_trip(empty, strict=True)
+
+
+def test_failed_grasps_are_not_proposed_again(scene):
+    planner = pushmog.Planner("sog")
+    context = pushmog.TripContext(0)
+    trip = planner.plan_trip(scene, context)
+    context.record_failure(trip)
+    assert len(context.failed) == 1
+    again = planner.plan_trip(scene, context)
+    assert again.grasp.jaws.to_dict() != trip.grasp.jaws.to_dict()
+
+
+def test_planning_releases_the_gil(scene):
+    """While one thread is inside a long Rust call, another thread keeps running Python."""
+    planner = pushmog.Planner("push-mog-opt")
+    inside = threading.Event()
+    done = threading.Event()
+    span = {}
+
+    def work():
+        inside.set()
+        span["start"] = time.perf_counter()
+        planner.run(scene, executor="sim", seed=0)
+        span["end"] = time.perf_counter()
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    seen = []
+    while not done.is_set():
+        seen.append(time.perf_counter())
+    worker.join()
+    during = [t for t in seen if span["start"] <= t <= span["end"]]
+    call = span["end"] - span["start"]
+    assert call > 0.05
+    # With the GIL held, this thread could run only in the few milliseconds around the call.
+    assert during and during[-1] - during[0] > 0.5 * call
+
+
+def test_parallel_planning_gives_the_serial_answers():
+    scenes = [pushmog.generate_scene(20, seed=s) for s in range(4)]
+    planner = pushmog.Planner("push-mog-opt")
+    serial = [planner.run(s, seed=1).to_dict() for s in scenes]
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        parallel = list(pool.map(lambda s: planner.run(s, seed=1).to_dict(), scenes))
+    assert parallel == serial
