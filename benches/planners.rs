@@ -1,5 +1,7 @@
 //! Benchmarks of the baselines on 34-object scenes: clustering, push planning for one cluster, grasp
-//! planning for one cluster, and a whole push-mog run with the ideal executor.
+//! planning for one cluster, one trip of push-mog and push-mog-opt (`Policy::plan_trip`, the call the
+//! Python package's `Planner.plan_trip` makes; `python/benches/plan_trip.py` times that one on the
+//! same scene), and a whole push-mog run with the ideal executor.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -44,6 +46,12 @@ fn baselines(c: &mut Criterion) {
     c.bench_function("grasp/single-object/one", |b| {
         b.iter(|| SingleObject::default().plan(&scene, &cluster[..1]).unwrap())
     });
+    for kind in [PolicyKind::PushMog, PolicyKind::PushMogOpt] {
+        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+        c.bench_function(&format!("plan_trip/{}/34", kind.name()), |b| {
+            b.iter(|| policy.plan_trip(&scene).unwrap())
+        });
+    }
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
     c.bench_function("run/push-mog/34", |b| {
         b.iter(|| policy.run(&scene, &mut policy.ideal(), 1).unwrap())

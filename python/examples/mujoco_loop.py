@@ -405,8 +405,21 @@ def misses(trips: list) -> dict:
     return out
 
 
-def rapier_agreement(plan: pushmog.Plan) -> dict:
-    return agreement([(t["grasp"]["objects"], t["carried"]) for t in plan.trips])
+def both_engines(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise: bool, log=print) -> dict:
+    """The loop in MuJoCo, and pushmog's own closed loop in its rapier simulator on the same scene
+    (same policy seed; noise as in MuJoCo)."""
+    result = clear_table(scene, planner, seed, noise, log)
+    rapier = planner.run(scene, executor="sim", seed=seed, noiseless=not noise)
+    trips = rapier.trips
+    result["rapier"] = {
+        "status": "cleared" if rapier.cleared else json.dumps(rapier.status),
+        "trips": len(trips),
+        "carried": rapier.objects_carried(),
+        "objects_per_trip": rapier.objects_per_trip(),
+        "agreement": agreement([(t["grasp"]["objects"], t["carried"]) for t in trips]),
+        "multi_misses": misses([(t["grasp"]["objects"], t["carried"], t.get("fault") is not None) for t in trips]),
+    }
+    return result
 
 
 def percent(table: dict, multi: bool) -> str:
@@ -430,15 +443,7 @@ def main(argv: Optional[list] = None) -> int:
     planner = pushmog.Planner(args.policy)
     log = (lambda *_: None) if args.quiet else print
     log(f"MuJoCo {mujoco.__version__}, pushmog {pushmog.__version__}, policy {args.policy}, {len(scene)} objects")
-    result = clear_table(scene, planner, args.seed, args.noise, log)
-    rapier = planner.run(scene, executor="sim", seed=args.seed, noiseless=not args.noise)
-    result["rapier"] = {
-        "status": "cleared" if rapier.cleared else json.dumps(rapier.status),
-        "trips": len(rapier.trips),
-        "objects_per_trip": rapier.objects_per_trip(),
-        "agreement": rapier_agreement(rapier),
-        "multi_misses": misses([(t["grasp"]["objects"], t["carried"], t.get("fault") is not None) for t in rapier.trips]),
-    }
+    result = both_engines(scene, planner, args.seed, args.noise, log)
     print(f"MuJoCo: {result['status']}; {result['carried']} objects in {result['trips']} trips; objects per trip {result['objects_per_trip']:.3f}")
     print(f"objects per trip, trip by trip: {result['carried_per_trip']}")
     print("grasps that carried exactly what pushmog predicted:")

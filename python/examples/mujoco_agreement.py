@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""The MuJoCo check of the paper's validation section: ``mujoco_loop.py`` on several generated scenes
+and policies, noise-free, with pushmog's rapier simulator on the same scenes beside it. Writes one
+JSON file per run and the tables ``mujoco-agreement.md`` and ``mujoco-agreement.tex``.
+
+    python python/examples/mujoco_agreement.py --seeds 1-10 --out paper/tables --runs experiments/results/mujoco
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import mujoco  # noqa: E402
+
+import mujoco_loop  # noqa: E402
+import pushmog  # noqa: E402
+
+
+def one(task: tuple) -> dict:
+    policy, seed, objects, runs = task
+    path = Path(runs) / f"{policy}-{seed}.json"
+    if path.exists():  # resumable: a finished run is read back
+        return json.loads(path.read_text())
+    scene = pushmog.generate_scene(objects, seed)
+    result = mujoco_loop.both_engines(scene, pushmog.Planner(policy), seed, False, lambda *_: None)
+    result.update(policy=policy, seed=seed, objects=objects, mujoco=mujoco.__version__, pushmog=pushmog.__version__)
+    path.write_text(json.dumps(result, indent=2) + "\n")
+    print(f"{policy} seed {seed}: MuJoCo OpT {result['objects_per_trip']:.3f}, rapier {result['rapier']['objects_per_trip']:.3f}", flush=True)
+    return result
+
+
+def seeds(text: str) -> list:
+    if "-" in text:
+        first, last = text.split("-")
+        return list(range(int(first), int(last) + 1))
+    return [int(s) for s in text.split(",")]
+
+
+def summary(results: list, engine: str) -> dict:
+    rows = [r if engine == "mujoco" else r["rapier"] for r in results]
+    multi = [v for r in rows for k, v in r["agreement"].items() if int(k) >= 2]
+    single = [v for r in rows for k, v in r["agreement"].items() if int(k) == 1]
+    return {
+        "scenes": len(rows),
+        "cleared": sum(r["status"] == "cleared" for r in rows),
+        "opt": sum(r["objects_per_trip"] for r in rows) / len(rows),
+        "multi": (sum(v[1] for v in multi), sum(v[0] for v in multi)),
+        "single": (sum(v[1] for v in single), sum(v[0] for v in single)),
+        "landed": sum(r["multi_misses"]["landed"] for r in rows),
+        "lost": sum(r["multi_misses"]["lost in closing or lift"] for r in rows),
+    }
+
+
+def fraction(pair: tuple, tex: bool) -> str:
+    held, n = pair
+    percent = "\\,\\%" if tex else " %"
+    return f"{held}/{n} ({100 * held / n:.0f}{percent})" if n else "0/0"
+
+
+def tables(results: list, policies: list, first: int, last: int) -> tuple:
+    head = ["policy", "engine", "scenes cleared", "objects per trip", "single-object as predicted", "multi-object as predicted", "misses: landed", "misses: lost in closing or lift"]
+    md = [f"MuJoCo {mujoco.__version__} and pushmog's rapier simulator, noise-free, scenes of seeds {first}-{last}.", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    tex = ["\\begin{tabular}{llrrrrrr}", "policy & engine & cleared & OpT & single & multi & landed & lost \\\\", "\\hline"]
+    for policy in policies:
+        runs = [r for r in results if r["policy"] == policy]
+        for engine, label in (("mujoco", "MuJoCo"), ("rapier", "rapier")):
+            s = summary(runs, engine)
+            cells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], False), fraction(s["multi"], False), str(s["landed"]), str(s["lost"])]
+            md.append("| " + " | ".join(cells) + " |")
+            texcells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], True), fraction(s["multi"], True), str(s["landed"]), str(s["lost"])]
+            tex.append(" & ".join(texcells) + " \\\\")
+    tex.append("\\end{tabular}")
+    return "\n".join(md) + "\n", "\n".join(tex) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", default="1-10")
+    parser.add_argument("--objects", type=int, default=34)
+    parser.add_argument("--policies", nargs="+", default=["push-mog", "push-mog-opt"], choices=pushmog.POLICIES)
+    parser.add_argument("--out", default="paper/tables")
+    parser.add_argument("--runs", default="experiments/results/mujoco")
+    parser.add_argument("--jobs", type=int, default=2)
+    args = parser.parse_args()
+    Path(args.runs).mkdir(parents=True, exist_ok=True)
+    chosen = seeds(args.seeds)
+    tasks = [(p, s, args.objects, args.runs) for p in args.policies for s in chosen]
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        results = list(pool.map(one, tasks))
+    md, tex = tables(results, args.policies, chosen[0], chosen[-1])
+    Path(args.out, "mujoco-agreement.md").write_text(md)
+    Path(args.out, "mujoco-agreement.tex").write_text(tex)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()
