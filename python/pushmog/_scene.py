@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Optional, Sequence, Union
 
@@ -50,7 +50,7 @@ class Pose:
         return np.array([self.x, self.y, self.yaw])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Object:
     """One object: its outline in its own frame (``(k, 2)`` metres, counter-clockwise), pose and height."""
 
@@ -60,7 +60,11 @@ class Object:
     height: float
     name: Optional[str] = None
     mass: Optional[float] = None
-    extra: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Object) and self.to_dict() == other.to_dict()
+
+    __hash__ = None  # type: ignore[assignment]
 
     def world_vertices(self) -> np.ndarray:
         """The outline on the table, ``(k, 2)`` metres."""

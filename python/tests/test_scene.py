@@ -38,6 +38,8 @@ def test_json_round_trip_is_exact(scene, tmp_path):
 def test_objects_round_trip_through_numpy(scene):
     rebuilt = pushmog.Scene.from_objects(scene.objects, gripper=scene.gripper, workspace=scene.workspace)
     assert rebuilt.to_json() == scene.to_json()
+    assert rebuilt.objects == scene.objects
+    assert scene.objects[0] != scene.objects[1]
     obj = scene.objects[0]
     assert isinstance(obj.vertices, np.ndarray) and obj.vertices.shape[1] == 2
     # World vertices: the outline turned by the yaw and moved to the position.
