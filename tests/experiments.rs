@@ -4,7 +4,7 @@ use std::path::Path;
 
 use pushmog::experiment::tables::{results_csv, results_latex, results_markdown};
 use pushmog::experiment::{
-    ExperimentConfig, LogRow, RunnerOptions, merge_logs, read_log, run_experiment,
+    ExperimentConfig, LogRow, RunnerOptions, merge_logs, merge_logs_into, read_log, run_experiment,
 };
 
 use crate::support::{pushmog, scratch};
@@ -104,10 +104,17 @@ fn shards_merge_into_the_whole() {
         .collect();
     let paths: Vec<&Path> = shards.iter().map(|p| p.as_path()).collect();
     let merged = merge_logs(&paths).unwrap();
-    assert_eq!(
-        figures(&merged.rows),
-        figures(&read_log(&whole).unwrap().rows)
-    );
+    let whole_log = read_log(&whole).unwrap();
+    assert_eq!(figures(&merged.rows), figures(&whole_log.rows));
+    // Written row by row, the merge is the same log, header included, with the whole run's figures.
+    let streamed = dir.join("streamed.jsonl");
+    let (header, rows) = merge_logs_into(&paths, &streamed).unwrap();
+    assert_eq!(rows, whole_log.rows.len());
+    assert_eq!(header, whole_log.header);
+    assert_eq!(read_log(&streamed).unwrap(), merged);
+    // Shards given twice, or in another order, merge the same.
+    let twice: Vec<&Path> = paths.iter().rev().chain(&paths).copied().collect();
+    assert_eq!(merge_logs(&twice).unwrap(), merged);
     // A log of another configuration is refused.
     let other = dir.join("other.jsonl");
     let mut changed = config.clone();

@@ -179,46 +179,136 @@ pub fn git_commit() -> String {
 /// [`Error::Io`] or [`Error::Json`] for a missing file, a bad header or a bad complete row (with its
 /// line number counted from the top of the file); [`Error::InvalidField`] for rows out of sequence.
 pub fn read_log(path: &Path) -> Result<Log> {
-    let text = crate::json::read_text(path)?;
-    let name = path.display().to_string();
-    let mut lines = text.split_inclusive('\n');
-    let header_line = lines
-        .next()
-        .ok_or_else(|| Error::field(&name, "header", "the log is empty"))?;
-    let header: LogHeader = crate::json::from_json(header_line, &name)?;
-    if header.kind != LOG_KIND || header.format != LOG_FORMAT {
-        return Err(Error::field(
-            &name,
-            "header",
-            format!("not a pushmog log of format {LOG_FORMAT}"),
-        ));
-    }
-    let [shard, shards] = header.shard;
-    let mut rows: Vec<LogRow> = Vec::new();
-    for (k, line) in lines.enumerate() {
-        if !line.ends_with('\n') {
-            break; // torn by an interruption
+    let mut reader = LogReader::open(path)?;
+    let rows = reader.by_ref().collect::<Result<Vec<_>>>()?;
+    Ok(Log {
+        header: reader.header,
+        rows,
+    })
+}
+
+/// A log read one row at a time, with the checks of [`read_log`], so that a log of any length is
+/// read in constant memory.
+pub struct LogReader {
+    /// The log's header.
+    pub header: LogHeader,
+    reader: std::io::BufReader<std::fs::File>,
+    name: String,
+    /// Rows read so far.
+    read: usize,
+    done: bool,
+}
+
+impl LogReader {
+    /// Opens a log and reads its header.
+    ///
+    /// # Errors
+    /// As [`read_log`].
+    pub fn open(path: &Path) -> Result<Self> {
+        let name = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut reader = std::io::BufReader::new(file);
+        let header_line = match next_line(&mut reader, &name, 1)? {
+            Some(Line::Complete(text) | Line::Torn(text)) => text,
+            None => return Err(Error::field(&name, "header", "the log is empty")),
+        };
+        let header: LogHeader = crate::json::from_json(&header_line, &name)?;
+        if header.kind != LOG_KIND || header.format != LOG_FORMAT {
+            return Err(Error::field(
+                &name,
+                "header",
+                format!("not a pushmog log of format {LOG_FORMAT}"),
+            ));
         }
-        let number = k + 2;
-        let row: LogRow = crate::json::from_json(line, &format!("{name}, line {number}"))?;
-        let expected = shard + k * shards.max(1);
+        Ok(Self {
+            header,
+            reader,
+            name,
+            read: 0,
+            done: false,
+        })
+    }
+
+    fn next_row(&mut self) -> Result<Option<LogRow>> {
+        let number = self.read + 2;
+        let Some(Line::Complete(line)) = next_line(&mut self.reader, &self.name, number)? else {
+            return Ok(None); // the end, or a line torn by an interruption
+        };
+        let row: LogRow = crate::json::from_json(&line, &format!("{}, line {number}", self.name))?;
+        let [shard, shards] = self.header.shard;
+        let step = shards.max(1);
+        let expected = shard + self.read * step;
         if row.id != expected {
-            let what = if rows.iter().any(|r| r.id == row.id) {
+            // The rows so far are shard, shard + step, …, expected − step.
+            let repeated =
+                row.id < expected && row.id >= shard && (row.id - shard).is_multiple_of(step);
+            let what = if repeated {
                 format!("run {} is logged twice", row.id)
             } else {
                 format!("run {} where run {expected} was expected", row.id)
             };
             return Err(Error::field(
-                &name,
+                &self.name,
                 format!("line {number}"),
                 format!(
                     "{what}: the log is damaged; remove that line and what follows, then run again"
                 ),
             ));
         }
-        rows.push(row);
+        self.read += 1;
+        Ok(Some(row))
     }
-    Ok(Log { header, rows })
+}
+
+impl Iterator for LogReader {
+    type Item = Result<LogRow>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let next = self.next_row().transpose();
+        if !matches!(next, Some(Ok(_))) {
+            self.done = true;
+        }
+        next
+    }
+}
+
+/// One line of a log: complete (ended by a newline, which is dropped) or torn.
+enum Line {
+    Complete(String),
+    Torn(String),
+}
+
+fn next_line(
+    reader: &mut impl std::io::BufRead,
+    name: &str,
+    number: usize,
+) -> Result<Option<Line>> {
+    let mut bytes = Vec::new();
+    reader
+        .read_until(b'\n', &mut bytes)
+        .map_err(|source| Error::Io {
+            path: name.into(),
+            source,
+        })?;
+    if bytes.is_empty() {
+        return Ok(None);
+    }
+    let complete = bytes.last() == Some(&b'\n');
+    if complete {
+        bytes.pop();
+    }
+    let text = crate::json::text_from_bytes(bytes, &format!("{name}, line {number}"))?;
+    Ok(Some(if complete {
+        Line::Complete(text)
+    } else {
+        Line::Torn(text)
+    }))
 }
 
 /// Appends lines to a log, flushing each so an interruption loses at most the line being written.
@@ -338,51 +428,117 @@ impl LogLock {
 /// [`Error::InvalidField`] when the logs come from different configurations or a run appears twice
 /// with different figures; [`Error::Io`] and [`Error::Json`] from reading.
 pub fn merge_logs(paths: &[&Path]) -> Result<Log> {
-    let mut logs = paths
-        .iter()
-        .map(|p| read_log(p))
-        .collect::<Result<Vec<_>>>()?;
-    let Some(first) = logs.first() else {
-        return Err(Error::field("merge", "logs", "no logs given"));
-    };
-    let hash = first.header.config_hash.clone();
-    let mut header = first.header.clone();
-    let mut rows: Vec<LogRow> = Vec::new();
-    for (log, path) in logs.iter_mut().zip(paths) {
-        if log.header.config_hash != hash {
-            return Err(Error::field(
-                path.display().to_string(),
-                "config_hash",
-                "written by a different configuration than the first log",
-            ));
-        }
-        rows.append(&mut log.rows);
+    let mut merged = MergedRows::open(paths)?;
+    let rows = merged.by_ref().collect::<Result<Vec<_>>>()?;
+    Ok(Log {
+        header: merged.header,
+        rows,
+    })
+}
+
+/// As [`merge_logs`], writing the merged log to `output` row by row (a log of any length is merged
+/// in constant memory). Returns the header written and the number of rows.
+///
+/// # Errors
+/// As [`merge_logs`], and [`Error::Io`] from writing.
+pub fn merge_logs_into(paths: &[&Path], output: &Path) -> Result<(LogHeader, usize)> {
+    let mut merged = MergedRows::open(paths)?;
+    let mut writer = LogWriter::create(output, &merged.header)?;
+    let mut count = 0;
+    for row in merged.by_ref() {
+        writer.row(&row?)?;
+        count += 1;
     }
-    rows.sort_by_key(|r| r.id);
-    let mut merged: Vec<LogRow> = Vec::with_capacity(rows.len());
-    for row in rows {
-        match merged.last() {
-            Some(last) if last.id == row.id => {
-                let (mut a, mut b) = (last.clone(), row.clone());
-                a.timing = RowTiming::default();
-                b.timing = RowTiming::default();
-                if a != b {
-                    return Err(Error::field(
-                        "merge",
-                        "rows",
-                        format!("run {} appears twice with different figures", row.id),
-                    ));
+    Ok((merged.header, count))
+}
+
+/// The rows of several shard logs in run order: each log is in run order, so the next row is the
+/// smallest next row of any log. A run logged by two shards must have the same figures in both.
+struct MergedRows {
+    header: LogHeader,
+    logs: Vec<(LogReader, Option<LogRow>)>,
+    failed: bool,
+}
+
+impl MergedRows {
+    fn open(paths: &[&Path]) -> Result<Self> {
+        let mut logs = Vec::with_capacity(paths.len());
+        for path in paths {
+            let mut reader = LogReader::open(path)?;
+            let first = reader.next().transpose()?;
+            logs.push((reader, first));
+        }
+        let Some((first, _)) = logs.first() else {
+            return Err(Error::field("merge", "logs", "no logs given"));
+        };
+        let mut header = first.header.clone();
+        for ((log, _), path) in logs.iter().zip(paths) {
+            if log.header.config_hash != header.config_hash {
+                return Err(Error::field(
+                    path.display().to_string(),
+                    "config_hash",
+                    "written by a different configuration than the first log",
+                ));
+            }
+        }
+        header.shard = [0, 1];
+        header.runs = header.config.runs().len();
+        Ok(Self {
+            header,
+            logs,
+            failed: false,
+        })
+    }
+
+    fn next_row(&mut self) -> Result<Option<LogRow>> {
+        let Some(id) = self
+            .logs
+            .iter()
+            .filter_map(|(_, next)| next.as_ref().map(|r| r.id))
+            .min()
+        else {
+            return Ok(None);
+        };
+        let mut taken: Option<LogRow> = None;
+        for (reader, next) in &mut self.logs {
+            if next.as_ref().map(|r| r.id) != Some(id) {
+                continue;
+            }
+            let row = std::mem::replace(next, reader.next().transpose()?);
+            let Some(row) = row else { continue };
+            match &taken {
+                None => taken = Some(row),
+                Some(first) => {
+                    let (mut a, mut b) = (first.clone(), row);
+                    a.timing = RowTiming::default();
+                    b.timing = RowTiming::default();
+                    if a != b {
+                        return Err(Error::field(
+                            "merge",
+                            "rows",
+                            format!("run {id} appears twice with different figures"),
+                        ));
+                    }
                 }
             }
-            _ => merged.push(row),
         }
+        Ok(taken)
     }
-    header.shard = [0, 1];
-    header.runs = header.config.runs().len();
-    Ok(Log {
-        header,
-        rows: merged,
-    })
+}
+
+impl Iterator for MergedRows {
+    type Item = Result<LogRow>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
+        let next = self.next_row().transpose();
+        if matches!(next, Some(Err(_))) {
+            self.failed = true;
+        }
+        next
+    }
 }
 
 /// Writes a whole log.

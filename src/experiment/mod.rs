@@ -22,7 +22,9 @@ pub use config::{
     ExecutorConfig, ExecutorKind, ExperimentConfig, MAX_RUNS, PolicyConfig, RunSpec, SceneConfig,
     SweepConfig,
 };
-pub use log::{Log, LogHeader, LogRow, merge_logs, read_log, write_log};
+pub use log::{
+    Log, LogHeader, LogReader, LogRow, merge_logs, merge_logs_into, read_log, write_log,
+};
 pub use push_comparison::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
 pub use report::{ReportPaths, write_report};
 pub use runner::{RunReport, RunnerOptions, quantile, run_experiment, run_one};

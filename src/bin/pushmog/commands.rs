@@ -11,7 +11,7 @@ use pushmog::experiment::agreement::{
 };
 use pushmog::experiment::{
     ExperimentConfig, Log, RunnerOptions, compare_clustering as compare, comparison_markdown,
-    merge_logs, read_log, run_experiment, write_log, write_report,
+    merge_logs_into, read_log, run_experiment, write_report,
 };
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, RunStatus, verify as verify_plan};
@@ -507,14 +507,12 @@ fn report_files(log: &Log, tables: &Path, figures: &Path, example: Option<&Path>
 
 pub fn merge(logs: &[std::path::PathBuf], output: &Path) -> Result<()> {
     let paths: Vec<&Path> = logs.iter().map(|p| p.as_path()).collect();
-    let merged = merge_logs(&paths)?;
-    let expected = merged.header.config.runs().len();
-    write_log(output, &merged)?;
+    let (header, rows) = merge_logs_into(&paths, output)?;
     eprintln!(
         "merged {} logs: {} of {} runs into {}",
         logs.len(),
-        merged.rows.len(),
-        expected,
+        rows,
+        header.runs,
         output.display()
     );
     Ok(())
