@@ -141,18 +141,10 @@ pub fn in_range(
     component: &str,
     field: &str,
     value: f64,
-    (low, high): (f64, f64),
+    range: (f64, f64),
     why: &str,
 ) -> Result<()> {
-    if value.is_finite() && value >= low && value <= high {
-        Ok(())
-    } else {
-        Err(Error::field(
-            component,
-            field,
-            format!("must be between {low} and {high} ({why}), got {value}"),
-        ))
-    }
+    bounded(component, field, value, value.is_finite(), range, why)
 }
 
 /// Checks that a count lies in `[low, high]`; otherwise an [`Error::InvalidField`] worded as
@@ -164,10 +156,22 @@ pub fn count_in_range(
     component: &str,
     field: &str,
     value: usize,
-    (low, high): (usize, usize),
+    range: (usize, usize),
     why: &str,
 ) -> Result<()> {
-    if (low..=high).contains(&value) {
+    bounded(component, field, value, true, range, why)
+}
+
+/// `Ok` when `value` is `valid` and within `[low, high]`, else the error of [`in_range`].
+fn bounded<T: PartialOrd + std::fmt::Display>(
+    component: &str,
+    field: &str,
+    value: T,
+    valid: bool,
+    (low, high): (T, T),
+    why: &str,
+) -> Result<()> {
+    if valid && value >= low && value <= high {
         Ok(())
     } else {
         Err(Error::field(

@@ -18,7 +18,8 @@
 //! - [`exec`]: executors that carry plans out (the ideal one applies them exactly).
 //! - [`policy`]: `sog`, `mog`, `push-mog` and the closed loop of the paper's Algorithm 1.
 //! - [`plan`]: what a run records, and [`plan::verify`], the independent checker.
-//! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors.
+//! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors;
+//!   [`schema`]: their JSON Schemas by name.
 //! - [`time_model`]: seconds per trip and per push, for objectives and picks per hour.
 //! - [`experiment`]: configurations, the parallel resumable runner, logs, tables and figures.
 //!
@@ -44,6 +45,7 @@ pub mod push;
 pub mod random;
 pub mod render;
 pub mod scene;
+pub mod schema;
 pub mod stats;
 pub mod time_model;
 

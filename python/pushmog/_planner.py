@@ -12,7 +12,7 @@ from ._scene import Scene, _plain
 
 __all__ = ["POLICIES", "Planner", "TripContext", "NoTrip"]
 
-POLICIES = ("sog", "mog", "push-mog", "push-mog-milp", "push-mog-socp", "push-mog-opt")
+POLICIES = tuple(_native.policies())
 
 
 class NoTrip(Exception):
@@ -50,8 +50,6 @@ class Planner:
     __slots__ = ("_native", "policy")
 
     def __init__(self, policy: str = "push-mog-opt", settings: Optional[Mapping[str, Any]] = None) -> None:
-        if policy not in POLICIES:
-            raise ValueError(f"unknown policy `{policy}`; available: {', '.join(POLICIES)}")
         text = None if settings is None else json.dumps(_plain(settings))
         self._native = _native.Planner(policy, text)
         self.policy = policy
@@ -91,8 +89,6 @@ class Planner:
         """Clears ``scene`` in pushmog's closed loop, as ``pushmog run``: ``executor="ideal"``
         applies plans exactly, ``"sim"`` carries them out in the rapier3d simulator (``sim_settings``
         as ``pushmog schema sim``; ``noiseless`` turns off perception and actuation noise)."""
-        if executor not in ("ideal", "sim"):
-            raise ValueError(f"unknown executor `{executor}`; available: ideal, sim")
         text = None if sim_settings is None else json.dumps(_plain(sim_settings))
         return Plan(json.loads(self._native.run(scene._native, executor, int(seed), text, bool(noiseless))))
 

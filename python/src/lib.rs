@@ -29,61 +29,56 @@ enum Attribute {
 fn to_py_err(error: pushmog::Error) -> PyErr {
     use Attribute::{Float, Int, Text};
     use pushmog::Error as E;
-    let message = error.to_string();
     let id = |id: &pushmog::scene::ObjectId| Int(i64::from(id.0));
-    let (err, attributes): (PyErr, Vec<(&str, Attribute)>) = match &error {
+    let attributes: Vec<(&str, Attribute)> = match &error {
         E::InvalidObject {
             id: object,
             index,
             field,
             ..
-        } => (
-            PyValueError::new_err(message),
-            vec![
-                ("object", id(object)),
-                ("index", Int(*index as i64)),
-                ("field", Text(field.to_string())),
-            ],
-        ),
-        E::DuplicateId { id: object, .. } => (
-            PyValueError::new_err(message),
-            vec![("object", id(object)), ("field", Text("id".into()))],
-        ),
+        } => vec![
+            ("object", id(object)),
+            ("index", Int(*index as i64)),
+            ("field", Text(field.to_string())),
+        ],
+        E::DuplicateId { id: object, .. } => {
+            vec![("object", id(object)), ("field", Text("id".into()))]
+        }
         E::Overlap {
             first,
             second,
             depth,
-        } => (
-            PyValueError::new_err(message),
-            vec![
-                ("object", id(first)),
-                ("other", id(second)),
-                ("field", Text("pose".into())),
-                ("depth", Float(*depth)),
-            ],
-        ),
+        } => vec![
+            ("object", id(first)),
+            ("other", id(second)),
+            ("field", Text("pose".into())),
+            ("depth", Float(*depth)),
+        ],
         E::InvalidField {
             component, field, ..
-        } => (
-            PyValueError::new_err(message),
-            vec![
-                ("component", Text(component.clone())),
-                ("field", Text(field.clone())),
-            ],
-        ),
+        } => vec![
+            ("component", Text(component.clone())),
+            ("field", Text(field.clone())),
+        ],
         E::Json {
             path, line, column, ..
-        } => (
-            PyValueError::new_err(message),
-            vec![
-                ("field", Text(path.clone())),
-                ("line", Int(*line as i64)),
-                ("column", Int(*column as i64)),
-            ],
-        ),
-        E::Placement { .. } => (PyValueError::new_err(message), Vec::new()),
-        E::Io { .. } => (PyOSError::new_err(message), Vec::new()),
-        _ => (PyRuntimeError::new_err(message), Vec::new()),
+        } => vec![
+            ("field", Text(path.clone())),
+            ("line", Int(*line as i64)),
+            ("column", Int(*column as i64)),
+        ],
+        _ => Vec::new(),
+    };
+    let message = error.to_string();
+    let err = match error {
+        E::Io { .. } => PyOSError::new_err(message),
+        E::InvalidObject { .. }
+        | E::DuplicateId { .. }
+        | E::Overlap { .. }
+        | E::InvalidField { .. }
+        | E::Json { .. }
+        | E::Placement { .. } => PyValueError::new_err(message),
+        _ => PyRuntimeError::new_err(message),
     };
     Python::attach(|py| {
         let value = err.value(py);
@@ -258,7 +253,7 @@ impl Planner {
                     settings = SimSettings::noiseless_from(&settings);
                 }
                 // The command line's seed for the simulator, so a run here equals `pushmog run`.
-                Box::new(check(Sim::new(settings, seed ^ 0x5157_5349_4d00_0000))?)
+                Box::new(check(Sim::new(settings, Sim::seed_for_run(seed)))?)
             }
             other => {
                 return Err(PyValueError::new_err(format!(
@@ -341,27 +336,23 @@ fn options(pixels_per_metre: f64) -> PyResult<RenderOptions> {
     })
 }
 
-/// The JSON Schema of a format: `scene`, `object-set`, `policy`, `sim`, `plan` or `trip`.
+/// The JSON Schema of a format by name (`pushmog::schema::names`).
 #[pyfunction]
 fn schema(name: &str) -> PyResult<String> {
-    let value = match name {
-        "scene" => json::scene_schema(),
-        "object-set" => json::object_set_schema(),
-        "policy" => schema_value(schemars::schema_for!(PolicySettings)),
-        "sim" => schema_value(schemars::schema_for!(SimSettings)),
-        "plan" => schema_value(schemars::schema_for!(Plan)),
-        "trip" => schema_value(schemars::schema_for!(pushmog::policy::TripPlan)),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "unknown schema `{name}`; available: scene, object-set, policy, sim, plan, trip"
-            )));
-        }
-    };
-    Ok(to_json(&value))
+    pushmog::schema::named(name)
+        .map(|value| to_json(&value))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "unknown schema `{name}`; available: {}",
+                pushmog::schema::names().join(", ")
+            ))
+        })
 }
 
-fn schema_value(schema: schemars::Schema) -> serde_json::Value {
-    serde_json::to_value(schema).unwrap_or_default()
+/// The names of the policy presets.
+#[pyfunction]
+fn policies() -> Vec<&'static str> {
+    PolicyKind::ALL.iter().map(|kind| kind.name()).collect()
 }
 
 /// Default settings, as JSON: `policy` or `sim` (the rapier simulator's physical parameters).
@@ -393,6 +384,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(scene_to_svg, module)?)?;
     module.add_function(wrap_pyfunction!(plan_to_svg, module)?)?;
     module.add_function(wrap_pyfunction!(schema, module)?)?;
+    module.add_function(wrap_pyfunction!(policies, module)?)?;
     module.add_function(wrap_pyfunction!(defaults, module)?)?;
     module.add_function(wrap_pyfunction!(version, module)?)?;
     Ok(())

@@ -270,12 +270,17 @@ impl Iterator for LogReader {
         if self.done {
             return None;
         }
-        let next = self.next_row().transpose();
-        if !matches!(next, Some(Ok(_))) {
-            self.done = true;
-        }
-        next
+        let next = self.next_row();
+        until_end_or_error(&mut self.done, next)
     }
+}
+
+/// An item of a row iterator that ends at the last row or at its first error: `next` as an item,
+/// setting `done` unless it is a row.
+fn until_end_or_error(done: &mut bool, next: Result<Option<LogRow>>) -> Option<Result<LogRow>> {
+    let item = next.transpose();
+    *done = !matches!(item, Some(Ok(_)));
+    item
 }
 
 /// One line of a log: complete (ended by a newline, which is dropped) or torn.
@@ -457,7 +462,7 @@ pub fn merge_logs_into(paths: &[&Path], output: &Path) -> Result<(LogHeader, usi
 struct MergedRows {
     header: LogHeader,
     logs: Vec<(LogReader, Option<LogRow>)>,
-    failed: bool,
+    done: bool,
 }
 
 impl MergedRows {
@@ -486,7 +491,7 @@ impl MergedRows {
         Ok(Self {
             header,
             logs,
-            failed: false,
+            done: false,
         })
     }
 
@@ -530,14 +535,11 @@ impl Iterator for MergedRows {
     type Item = Result<LogRow>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if self.failed {
+        if self.done {
             return None;
         }
-        let next = self.next_row().transpose();
-        if matches!(next, Some(Err(_))) {
-            self.failed = true;
-        }
-        next
+        let next = self.next_row();
+        until_end_or_error(&mut self.done, next)
     }
 }
 

@@ -162,11 +162,6 @@ fn executor(
     }
 }
 
-/// The simulator's seed for a run seed: distinct from the policy's stream, fixed by it.
-fn sim_seed(seed: u64) -> u64 {
-    seed ^ 0x5157_5349_4d00_0000
-}
-
 pub fn grasp_agreement(args: &AgreementArgs) -> Result<()> {
     let policy = policy(&args.policy, args.settings.as_deref())?;
     let settings = AgreementSettings {
@@ -219,7 +214,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if args.noiseless {
         sim = SimSettings::noiseless_from(&sim);
     }
-    let mut executor = executor(&args.executor, &policy, Some((sim, sim_seed(args.seed))))?;
+    let mut executor = executor(
+        &args.executor,
+        &policy,
+        Some((sim, Sim::seed_for_run(args.seed))),
+    )?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     if let Some(path) = &args.plan {
         json::write_text(path, &to_json(&plan))?;
@@ -578,24 +577,16 @@ pub fn render(args: &RenderArgs) -> Result<()> {
 }
 
 pub fn schema(format: SchemaFormat) -> Result<()> {
-    let schema = match format {
-        SchemaFormat::Scene => json::scene_schema(),
-        SchemaFormat::ObjectSet => json::object_set_schema(),
-        SchemaFormat::Policy => {
-            serde_json::to_value(schemars::schema_for!(PolicySettings)).unwrap_or_default()
-        }
-        SchemaFormat::Sim => {
-            serde_json::to_value(schemars::schema_for!(SimSettings)).unwrap_or_default()
-        }
-        SchemaFormat::Experiment => {
-            serde_json::to_value(schemars::schema_for!(ExperimentConfig)).unwrap_or_default()
-        }
-        SchemaFormat::Robot => {
-            serde_json::to_value(schemars::schema_for!(pushmog::exec::ur5::RobotConfig))
-                .unwrap_or_default()
-        }
-        SchemaFormat::Plan => serde_json::to_value(schemars::schema_for!(Plan)).unwrap_or_default(),
-    };
+    let name = clap::ValueEnum::to_possible_value(&format)
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_default();
+    let schema = pushmog::schema::named(&name).ok_or_else(|| {
+        Error::field(
+            "schema",
+            "format",
+            format!("`{name}` is not built into this binary"),
+        )
+    })?;
     print!("{}", to_json(&schema));
     Ok(())
 }

@@ -354,6 +354,8 @@ enum SchemaFormat {
     Robot,
     /// Plans and run records (`plan`, `run --plan`, `execute`'s run.json).
     Plan,
+    /// One trip as a planner plans it (the Python package's `TripPlan.to_dict()`).
+    Trip,
 }
 
 fn main() -> ExitCode {

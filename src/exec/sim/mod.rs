@@ -63,6 +63,12 @@ pub struct Sim {
 }
 
 impl Sim {
+    /// The simulator's seed for a run whose policy has seed `run_seed`: distinct from the policy's
+    /// random stream, fixed by it (`pushmog run --seed` and the Python `Planner.run` use it).
+    pub fn seed_for_run(run_seed: u64) -> u64 {
+        run_seed ^ 0x5157_5349_4d00_0000
+    }
+
     /// A simulator with these settings; `seed` drives perception and actuation noise.
     ///
     /// # Errors
