@@ -1,7 +1,8 @@
 //! Optimal clustering as a set-partitioning MILP (`formulations/clustering.md`), solved with good_lp.
 //!
 //! Variables `x_S ∈ {0, 1}` over the candidate clusters `K` ([`super::compact_candidates`] plus the
-//! clusters of the hierarchical heuristic, so its answer is always a feasible point):
+//! clusters of the hierarchical heuristic, each split into single objects when its members cannot
+//! stand in one row, so the heuristic's answer so split is always a feasible point):
 //!
 //! ```text
 //! minimise   Σ_S c_S x_S
@@ -24,12 +25,12 @@ use good_lp::solvers::{
 use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variable, variable};
 use serde::{Deserialize, Serialize};
 
-use super::admits_row;
 use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::separability::separability_conflicts;
 use super::{Clusterer, Clustering};
+use super::{admits_row, split_unrowable};
 use crate::error::{Error, Result};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::Scene;
@@ -453,18 +454,25 @@ impl Clusterer for Milp {
         let started = Instant::now();
         let settings = &self.settings;
         let heuristic = Hierarchical::new(settings.heuristic.clone())?.cluster(scene)?;
-        let heuristic_clusters: Vec<Vec<usize>> = heuristic
-            .value
-            .clusters
-            .iter()
-            .map(|c| {
-                let mut members = scene.indices_of(c)?;
-                members.sort_unstable();
-                Ok(members)
-            })
-            .collect::<Result<_>>()?;
         // A cluster is worth pushing only if its members can stand in one row the jaws take.
         let limit = scene.gripper().usable_gap() - settings.row_margin;
+        // The heuristic's clusters join the candidates, so that its answer is a feasible point; one
+        // that cannot stand in a row is split into single objects, as it would be taken.
+        let heuristic_clusters = split_unrowable(
+            scene,
+            heuristic
+                .value
+                .clusters
+                .iter()
+                .map(|c| {
+                    let mut members = scene.indices_of(c)?;
+                    members.sort_unstable();
+                    Ok(members)
+                })
+                .collect::<Result<_>>()?,
+            limit,
+            ROW_GAP,
+        );
         let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
         let give_up = |what: String| Outcome {
             value: heuristic.value.clone(),

@@ -93,6 +93,26 @@ pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> boo
     })
 }
 
+/// `clusters` (scene indices) with every cluster that cannot stand in one row of at most `limit`
+/// ([`admits_row`]) split into single objects, as a planner that pushes rows would take them.
+pub fn split_unrowable(
+    scene: &Scene,
+    clusters: Vec<Vec<usize>>,
+    limit: f64,
+    gap: f64,
+) -> Vec<Vec<usize>> {
+    clusters
+        .into_iter()
+        .flat_map(|members| {
+            if admits_row(scene, &members, limit, gap) {
+                vec![members]
+            } else {
+                members.into_iter().map(|i| vec![i]).collect()
+            }
+        })
+        .collect()
+}
+
 /// A way to cluster a scene.
 pub trait Clusterer {
     /// A short name for logs and tables (`hierarchical`, `milp`).
