@@ -150,3 +150,20 @@ fn socp_rows_fit_the_jaws_on_seeded_scenes() {
         "{fits} of {clusters}"
     );
 }
+
+#[test]
+fn a_member_the_fingers_cannot_reach_is_held_and_the_other_comes_to_it() {
+    // Squares A and B 100 mm apart on a line, and C 4 mm behind A: no room to lower the fork between
+    // A and C, so A cannot be pushed toward B. The row is still made, by B alone: the least total
+    // push is 65 mm whichever of the two moves.
+    let scene = squares(0.03, &[(0.2, 0.2), (0.3, 0.2), (0.166, 0.2)]);
+    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
+    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    let pushes = &outcome.value.pushes;
+    assert!(pushes.iter().all(|p| p.object == ObjectId(1)), "{pushes:?}");
+    let after = predict(&scene, pushes).unwrap();
+    assert_eq!(after.centroid(0), scene.centroid(0));
+    let gap = after.centroid(1).x - after.centroid(0).x;
+    assert!((gap - 0.035).abs() < 1e-6, "{gap}");
+    assert!((outcome.stats.objective.unwrap() - 0.065).abs() < 1e-6);
+}

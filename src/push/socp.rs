@@ -531,26 +531,55 @@ impl PushPlanner for Socp {
                        order: &[usize],
                        solution: &RowSolution|
          -> std::result::Result<Attempt, (ObjectId, SkipReason)> {
-            let fixed: Vec<bool> = (0..members.len())
+            let mut fixed: Vec<bool> = (0..members.len())
                 .map(|m| {
                     nalgebra::distance(&solution.targets[m], &starts[m]) < self.settings.min_push
                 })
                 .collect();
             let mut targets = solution.targets.clone();
             let mut centre_line = solution.centre_line;
-            if fixed.iter().any(|&f| f) {
-                let refined = solve(axis, order, &fixed);
-                if refined.solved() {
-                    targets = refined.targets;
-                    centre_line = refined.centre_line;
+            let mut refine = fixed.iter().any(|&f| f);
+            // A member that cannot be pushed (its path is blocked, or there is no room for the
+            // fingers) is held where it is and the row solved again around it, while another
+            // member is left to move.
+            let pushes = loop {
+                if refine {
+                    let refined = solve(axis, order, &fixed);
+                    if refined.solved() {
+                        targets = refined.targets;
+                        centre_line = refined.centre_line;
+                    }
                 }
-            }
-            for (m, &hold) in fixed.iter().enumerate() {
-                if hold || nalgebra::distance(&targets[m], &starts[m]) < self.settings.min_push {
-                    targets[m] = starts[m];
+                for (m, &hold) in fixed.iter().enumerate() {
+                    if hold || nalgebra::distance(&targets[m], &starts[m]) < self.settings.min_push
+                    {
+                        targets[m] = starts[m];
+                    }
                 }
-            }
-            let pushes = self.sequence(scene, &members, &targets)?;
+                match self.sequence(scene, &members, &targets) {
+                    Ok(pushes) => break pushes,
+                    Err((object, reason)) => {
+                        let stuck = members
+                            .iter()
+                            .position(|&i| scene.objects()[i].id == object)
+                            .filter(|&m| !fixed[m]);
+                        let Some(m) = stuck else {
+                            return Err((object, reason));
+                        };
+                        fixed[m] = true;
+                        if fixed.iter().all(|&f| f) {
+                            return Err((object, reason));
+                        }
+                        let refined = solve(axis, order, &fixed);
+                        if !refined.solved() {
+                            return Err((object, reason));
+                        }
+                        targets = refined.targets;
+                        centre_line = refined.centre_line;
+                        refine = false;
+                    }
+                }
+            };
             let skipped = (0..members.len())
                 .filter(|&m| targets[m] == starts[m])
                 .map(|m| SkippedPush {
