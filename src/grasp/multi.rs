@@ -17,14 +17,16 @@
 //!
 //! **Judging** (the outcome model, [`GraspOutcome`], on the most promising candidates only): by
 //! default the planar mechanics of `closing.rs` on the observed table and on `samples − 1` noisy
-//! copies of it ([`Noise`]). Candidates are judged in order of how many objects they catch, then of how
-//! close the caught centroids lie to the plates' centre line (the simulator holds rows near that line
-//! far more often), then of clearance; at most `tries_per_set` per set of caught objects and
-//! `max_judged` in all.
+//! copies of it ([`Noise`]). Candidates are judged in order of how many objects they catch, then the
+//! caller's suggestions first (the jaws a row was pushed for), then of how close the caught centroids
+//! lie to the plates' centre line (the simulator holds rows near that line far more often), then of
+//! clearance; at most `tries_per_set` per set of caught objects and `max_judged` in all.
 //!
 //! **Ranking**: by the estimated probability that every predicted object is carried, then by the
 //! number of objects, then by clearance; a candidate below `min_probability` is not used. The search
 //! stops at the first candidate that held in every sample (nothing judged later can rank above it).
+//! [`MultiObject::plan_several`] ranks the grasps of two or more objects alone: the policies ask it,
+//! since they take one object by itself with the single-object planner anyway.
 //!
 //! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing.rs`.
 
@@ -365,6 +367,38 @@ impl MultiObject {
         pushed: &[ObjectId],
         avoid: &[JawPose],
     ) -> Result<Outcome<Option<Grasp>>> {
+        self.search(scene, targets, hints, pushed, avoid, 1)
+    }
+
+    /// As [`MultiObject::plan_after_pushes`], among grasps predicted to carry two or more objects
+    /// only: what a policy asks when it would otherwise push nothing or take one object by itself.
+    /// Ranked as the others, so a pair held in three samples of four is chosen here where
+    /// [`MultiObject::plan_after_pushes`] would prefer one object held in all four.
+    ///
+    /// # Errors
+    /// An id that is not in the scene.
+    pub fn plan_several(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        hints: &[JawPose],
+        pushed: &[ObjectId],
+        avoid: &[JawPose],
+    ) -> Result<Outcome<Option<Grasp>>> {
+        self.search(scene, targets, hints, pushed, avoid, 2)
+    }
+
+    /// The search behind both: candidates, screening, judging and ranking, keeping only grasps
+    /// predicted to carry at least `min_objects`.
+    fn search(
+        &self,
+        scene: &Scene,
+        targets: &[ObjectId],
+        hints: &[JawPose],
+        pushed: &[ObjectId],
+        avoid: &[JawPose],
+        min_objects: usize,
+    ) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
         let pushed = scene.indices_of(pushed)?;
@@ -393,6 +427,10 @@ impl MultiObject {
                 *refusals.entry("holds no target").or_default() += 1;
                 continue;
             }
+            if caught.len() < min_objects {
+                *refusals.entry("too few objects").or_default() += 1;
+                continue;
+            }
             let mut sorted = caught.clone();
             sorted.sort_unstable();
             let (clearance, enough) = self.clearance(scene, jaws, &pushed);
@@ -401,17 +439,20 @@ impl MultiObject {
                 continue;
             }
             screened.push(Screened {
+                hinted: hints.iter().any(|h| h.same_place(jaws)),
                 jaws: *jaws,
                 offset: centre_line_offset(scene, jaws, &caught),
                 caught: sorted,
                 clearance,
             });
         }
-        // Most objects first, then nearest the plates' centre line, then most clearance.
+        // Most objects first, then the caller's suggestions (the jaws a row was pushed for), then
+        // nearest the plates' centre line, then most clearance.
         screened.sort_by(|a, b| {
             b.caught
                 .len()
                 .cmp(&a.caught.len())
+                .then(b.hinted.cmp(&a.hinted))
                 .then(a.offset.total_cmp(&b.offset))
                 .then(b.clearance.total_cmp(&a.clearance))
         });
@@ -452,6 +493,10 @@ impl MultiObject {
                     .or_default() += 1;
                 continue;
             };
+            if objects.len() < min_objects {
+                *refusals.entry("too few objects").or_default() += 1;
+                continue;
+            }
             let probability = judgement.probability();
             if probability < settings.min_probability {
                 *refusals.entry("not robust to noise").or_default() += 1;
@@ -550,6 +595,8 @@ impl MultiObject {
 /// A candidate that passed the screening.
 #[derive(Clone, Debug)]
 struct Screened {
+    /// Whether the caller suggested these jaws.
+    hinted: bool,
     jaws: JawPose,
     /// Scene indices of the caught objects, sorted.
     caught: Vec<usize>,
