@@ -199,6 +199,7 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
             cluster: trip.cluster,
             pushes: trip.pushes,
             skipped_pushes: trip.skipped_pushes,
+            looks: Vec::new(),
             grasp: trip.grasp,
             carried,
             fault: None,
@@ -277,6 +278,30 @@ fn inconsistent_records_are_refused() {
         p.trips[2].scene.objects.retain(|o| o.id != back.id);
     }
     broken.push(("a table that does not follow from the last", p));
+    // Looks: an ideal run looks again after every trip that pushed.
+    let looked = plan
+        .trips
+        .iter()
+        .position(|t| !t.looks.is_empty())
+        .expect("a trip that looked again after its pushes");
+    let mut p = plan.clone();
+    p.trips[looked].looks[0].scene.objects[0].pose.x += 0.01;
+    broken.push(("a look that is not the table after the pushes", p));
+    let mut p = plan.clone();
+    p.trips[looked].looks[0].after_pushes = p.trips[looked].pushes.len() + 1;
+    broken.push(("a look after pushes the trip does not have", p));
+    let mut p = plan.clone();
+    let mut stranger = p.trips[looked].scene.objects[0].clone();
+    stranger.id = ObjectId(9999);
+    stranger.pose.x += 1.0;
+    p.trips[looked].looks[0].scene.objects.push(stranger);
+    broken.push((
+        "a look that sees an object the trip's table did not hold",
+        p,
+    ));
+    let mut p = plan.clone();
+    p.trips[looked].looks[0].scene.objects.clear();
+    broken.push(("a look on which the grasped objects are missing", p));
     for (what, p) in &broken {
         assert!(!verify(p).is_empty(), "{what}: accepted");
     }
@@ -307,4 +332,5 @@ fn plan_files_are_compact_and_read_back_exactly() {
     let back: Plan = pushmog::json::from_json(&text, "plan").unwrap();
     assert!(back == plan);
     assert!(text.contains("scene_change"));
+    assert!(plan.trips.iter().any(|t| !t.looks.is_empty()));
 }

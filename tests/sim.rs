@@ -309,12 +309,13 @@ fn planned_multi_object_grasps_hold_in_the_simulator() {
 
 /// Plans written by closed loops in the simulator pass the independent verifier, record checks
 /// included: toppled objects that leave the observation and come back, objects lifted along with
-/// others, and what is left at the end all add up.
+/// others, looks during trips, and what is left at the end all add up.
 #[test]
 fn simulated_runs_write_plans_that_verify() {
     use pushmog::plan::verify;
     use pushmog::policy::{Policy, PolicyKind, PolicySettings};
     use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+    let mut looks = 0;
     for seed in 0..4 {
         let scene =
             generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
@@ -327,8 +328,12 @@ fn simulated_runs_write_plans_that_verify() {
                 "seed {seed} {kind}: {:?}",
                 verify(&plan)
             );
+            looks += plan.trips.iter().map(|t| t.looks.len()).sum::<usize>();
         }
     }
+    // Trips that pushed looked again and planned the rest on what they saw; the verifier checked
+    // those pushes and grasps on the looks.
+    assert!(looks > 0);
 }
 
 /// Touching objects observed with perception noise are moved apart, never refused or dropped: a

@@ -382,8 +382,13 @@ fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
     let mut ideal = policy.ideal();
     let reference = policy.run(&scene, &mut ideal, 5).unwrap();
     let dir = scratch(name);
-    let mut observations: Vec<SceneSpec> =
-        reference.trips.iter().map(|t| t.scene.clone()).collect();
+    // Every trip's table, then every look during the trip.
+    let mut observations: Vec<SceneSpec> = reference
+        .trips
+        .iter()
+        .flat_map(|t| std::iter::once(&t.scene).chain(t.looks.iter().map(|l| &l.scene)))
+        .cloned()
+        .collect();
     let mut empty = scene.to_spec();
     empty.objects.clear();
     observations.push(empty);

@@ -367,16 +367,30 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
         offset = np.zeros(3)
         if noise:
             offset = np.array([rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_yaw"])])
-        landed = False
-        for push in trip.pushes:
-            if world.push(push, offset):
-                landed = True
+        # As pushmog's own loop: push; after any pushes look again and plan the rest of the trip
+        # on what is seen (corrective pushes for at most run.max_corrections rounds, the grasp).
+        run = planner.settings["run"]
+        landed, pushes, looks, current = False, 0, 0, trip
+        while True:
+            for push in current.pushes:
+                if world.push(push, offset):
+                    landed = True
+                    break
+                pushes += 1
+            if landed or not current.pushes or not run["observe_after_pushes"]:
                 break
+            seen, _ = world.observe(perception, rng)
+            corrected = planner.correct_trip(seen, current, context, may_push=looks < run["max_corrections"])
+            looks += 1
+            if corrected is None:
+                break
+            current = corrected
+        trip = current
         carried = []
         if not landed:
             carried, landed = world.grasp(trip.grasp, offset)
-        records.append(Record(trip.grasp.objects, carried, len(trip.pushes), landed))
-        log(f"trip {len(records):2d}: {len(trip.pushes)} pushes, predicted {trip.grasp.objects}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
+        records.append(Record(trip.grasp.objects, carried, pushes, landed))
+        log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
         if carried:
             in_a_row = 0
         else:

@@ -20,6 +20,13 @@ class Planner:
     def settings(self) -> str: ...
     def policy(self) -> str: ...
     def plan_trip(self, scene: Scene, context: Optional[TripContext] = None) -> str: ...
+    def correct_trip(
+        self,
+        scene: Scene,
+        trip: str,
+        context: Optional[TripContext] = None,
+        may_push: bool = True,
+    ) -> str: ...
     def run(
         self,
         scene: Scene,

@@ -78,6 +78,30 @@ class Planner:
             return None
         return TripPlan(answer["trip"], answer["status"], float(answer["seconds"]))
 
+    def correct_trip(
+        self,
+        scene: Scene,
+        trip: TripPlan,
+        context: Optional[TripContext] = None,
+        may_push: bool = True,
+    ) -> Optional[TripPlan]:
+        """The rest of ``trip`` once its pushes are made, planned on ``scene``, a new look at the
+        table: pushes turn and shift objects, so the grasp is planned where they are. Returns the
+        corrective pushes (only with ``may_push``; often none) and the grasp to make next; ``None``
+        when nothing on the table can be grasped. Call it again after corrective pushes, passing
+        the plan it returned; ``pushmog run`` allows ``run.max_corrections`` rounds (default 2)."""
+        if not isinstance(scene, Scene):
+            raise TypeError(f"expected a pushmog.Scene, got {type(scene).__name__}")
+        if not isinstance(trip, TripPlan):
+            raise TypeError(f"expected a pushmog.TripPlan, got {type(trip).__name__}")
+        native_context = None if context is None else context._native
+        answer = json.loads(
+            self._native.correct_trip(scene._native, trip.to_json(), native_context, bool(may_push))
+        )
+        if answer["trip"] is None:
+            return None
+        return TripPlan(answer["trip"], "heuristic", 0.0)
+
     def run(
         self,
         scene: Scene,

@@ -12,7 +12,7 @@ use pushmog::exec::{Executor, Sim, SimSettings};
 use pushmog::grasp::JawPose;
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, verify};
-use pushmog::policy::{Policy, PolicyKind, PolicySettings, TripContext as Context};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings, TripContext as Context, TripPlan};
 use pushmog::render::{RenderOptions, plan_svg, scene_svg};
 use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set, generate_scene};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -227,6 +227,38 @@ impl Planner {
             "seconds": planned.stats.seconds,
         });
         Ok(to_json(&answer))
+    }
+
+    /// The rest of a trip whose pushes have been made, planned on `scene`, a new look at the table
+    /// (`Policy::correct_trip`): `trip` is the trip's plan as JSON (as `plan_trip` gave it, or as
+    /// the last call of this gave it); `may_push` allows corrective pushes. Returns JSON `{"trip":
+    /// …}`, `null` when nothing on the table can be grasped.
+    #[pyo3(signature = (scene, trip, context = None, may_push = true))]
+    fn correct_trip(
+        &self,
+        py: Python<'_>,
+        scene: &Scene,
+        trip: &str,
+        context: Option<&Bound<'_, TripContext>>,
+        may_push: bool,
+    ) -> PyResult<String> {
+        let trip: TripPlan = check(json::from_json(trip, "trip"))?;
+        let corrected = match context {
+            Some(context) => {
+                let context = context.borrow();
+                let context = &context.context;
+                py.detach(|| {
+                    self.policy
+                        .correct_trip(&scene.scene, &trip, context, may_push)
+                })
+            }
+            None => py.detach(|| {
+                self.policy
+                    .correct_trip(&scene.scene, &trip, &Context::new(0), may_push)
+            }),
+        };
+        let corrected = check(corrected)?;
+        Ok(to_json(&serde_json::json!({ "trip": corrected })))
     }
 
     /// Clears `scene` in a closed loop with the `ideal` executor (plans applied exactly) or the

@@ -36,11 +36,37 @@ def test_plan_trip_equals_the_cli_plan(policy, cli, tmp_path):
         assert trip.to_dict() == trip_fields(first)
 
 
-def test_plan_trip_equals_the_first_trip_of_a_run(scene):
-    planner = pushmog.Planner("push-mog-opt")
+@pytest.mark.parametrize("policy", ["push-mog", "push-mog-opt"])
+def test_plan_trip_and_correct_trip_equal_the_first_trip_of_a_run(policy, scene):
+    """The run's loop: plan, push, look again and plan the rest on what is seen (here the table
+    exactly as pushed), for at most max_corrections rounds of corrective pushes."""
+    planner = pushmog.Planner(policy)
+    rounds = planner.settings["run"]["max_corrections"]
     plan = planner.run(scene, executor="ideal", seed=3)
-    trip = planner.plan_trip(scene, pushmog.TripContext(3))
-    assert trip.to_dict() == trip_fields(plan.trips[0])
+    record = plan.trips[0]
+    context = pushmog.TripContext(3)
+    trip = planner.plan_trip(scene, context)
+    first = trip.to_dict()
+    assert {k: first[k] for k in ("clustering", "cluster")} == {k: record[k] for k in ("clustering", "cluster")}
+    table, current, pushes, afters = scene, trip, list(first["pushes"]), []
+    while current.pushes:
+        table = table.with_poses({p.object: (p.end.x, p.end.y, p.end.yaw) for p in current.pushes})
+        afters.append(len(pushes))
+        current = planner.correct_trip(table, current, context, may_push=len(afters) <= rounds)
+        pushes += current.to_dict()["pushes"]
+    assert pushes == record["pushes"]
+    assert current.to_dict()["grasp"] == record["grasp"]
+    assert [look["after_pushes"] for look in record.get("looks", [])] == afters
+
+
+def test_correct_trip_checks_its_arguments(scene):
+    planner = pushmog.Planner("push-mog")
+    trip = planner.plan_trip(scene, pushmog.TripContext(1))
+    with pytest.raises(TypeError):
+        planner.correct_trip(scene, trip.to_dict())
+    # Without pushes there is nothing to correct: the grasp is planned on the table as it is.
+    again = planner.correct_trip(scene, trip, may_push=False)
+    assert again is not None and again.pushes == []
 
 
 def test_trip_parts_are_numpy_friendly(scene):

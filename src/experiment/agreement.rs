@@ -127,8 +127,9 @@ fn replay_scene(
     let mut replays = Vec::new();
     let noiseless = SimSettings::noiseless_from(&settings.sim);
     for (trip_index, trip) in plan.trips.iter().enumerate() {
-        let observed = Scene::new(trip.scene.clone())?;
-        let predicted = predict(&observed, &trip.pushes)?;
+        // The grasp was planned on the last table seen in the trip after the pushes that followed.
+        let (seen, start) = trip.last_plan_scene();
+        let predicted = predict(&Scene::new(seen.clone())?, &trip.pushes[start..])?;
         let mut grasps: Vec<(bool, Grasp)> = vec![(false, trip.grasp.clone())];
         if settings.refused_per_trip > 0
             && let Some(cluster) = trip.cluster

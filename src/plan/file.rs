@@ -8,7 +8,8 @@
 //! - `{"id", "pose"}`: the same object at a new pose;
 //! - a whole object: anything else (an object seen for the first time, or with a new outline).
 //!
-//! Objects of the previous scene not listed are gone. A trip whose workspace or gripper differs from
+//! Objects of the previous scene not listed are gone. A look during a trip (a new observation after
+//! some of its pushes) is written the same way, as its change from the trip's own scene. A trip whose workspace or gripper differs from
 //! the previous one is written in full. Reading accepts both forms, so plans written before this
 //! format still read; reading then writing gives the same scenes exactly (numbers are not re-derived).
 
@@ -17,7 +18,7 @@ use std::collections::HashMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{Fault, Trip};
+use super::{Fault, Look, Trip};
 use crate::cluster::Clustering;
 use crate::grasp::Grasp;
 use crate::push::{Push, SkippedPush};
@@ -62,6 +63,9 @@ pub struct TripRecord {
     pub pushes: Vec<Push>,
     /// As [`Trip::skipped_pushes`].
     pub skipped_pushes: Vec<SkippedPush>,
+    /// As [`Trip::looks`], each scene as a change from the trip's scene.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub looks: Vec<LookRecord>,
     /// As [`Trip::grasp`].
     pub grasp: Grasp,
     /// As [`Trip::carried`].
@@ -71,33 +75,46 @@ pub struct TripRecord {
     pub fault: Option<Fault>,
 }
 
+/// A look during a trip as written: its scene as the change from the trip's scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LookRecord {
+    /// As [`super::Look::after_pushes`].
+    pub after_pushes: usize,
+    /// The observation, object by object in order, as a change from the trip's scene.
+    pub scene_change: Vec<ObjectChange>,
+}
+
 fn change(previous: &SceneSpec, scene: &SceneSpec) -> Option<Vec<ObjectChange>> {
     if previous.workspace != scene.workspace || previous.gripper != scene.gripper {
         return None;
     }
+    Some(object_changes(previous, scene))
+}
+
+/// The objects of `scene`, each as a change from `previous`.
+fn object_changes(previous: &SceneSpec, scene: &SceneSpec) -> Vec<ObjectChange> {
     let before: HashMap<ObjectId, &ObjectSpec> =
         previous.objects.iter().map(|o| (o.id, o)).collect();
-    Some(
-        scene
-            .objects
-            .iter()
-            .map(|object| match before.get(&object.id) {
-                Some(&old) if old == object => ObjectChange::Kept(object.id),
-                Some(&old)
-                    if ObjectSpec {
-                        pose: object.pose,
-                        ..old.clone()
-                    } == *object =>
-                {
-                    ObjectChange::Moved(Moved {
-                        id: object.id,
-                        pose: object.pose,
-                    })
-                }
-                _ => ObjectChange::Whole(object.clone()),
-            })
-            .collect(),
-    )
+    scene
+        .objects
+        .iter()
+        .map(|object| match before.get(&object.id) {
+            Some(&old) if old == object => ObjectChange::Kept(object.id),
+            Some(&old)
+                if ObjectSpec {
+                    pose: object.pose,
+                    ..old.clone()
+                } == *object =>
+            {
+                ObjectChange::Moved(Moved {
+                    id: object.id,
+                    pose: object.pose,
+                })
+            }
+            _ => ObjectChange::Whole(object.clone()),
+        })
+        .collect()
 }
 
 fn apply(
@@ -110,8 +127,8 @@ fn apply(
     let earlier = |id: ObjectId| {
         before.get(&id).copied().ok_or_else(|| {
             format!(
-                "trip {trip}: `scene_change` names object {id}, which the previous trip's scene \
-                 does not hold"
+                "trip {trip}: `scene_change` names object {id}, which the scene it changes does \
+                 not hold"
             )
         })
     };
@@ -152,6 +169,14 @@ pub fn serialize<S: Serializer>(trips: &[Trip], serializer: S) -> Result<S::Ok, 
                 cluster: trip.cluster,
                 pushes: trip.pushes.clone(),
                 skipped_pushes: trip.skipped_pushes.clone(),
+                looks: trip
+                    .looks
+                    .iter()
+                    .map(|look| LookRecord {
+                        after_pushes: look.after_pushes,
+                        scene_change: object_changes(&trip.scene, &look.scene),
+                    })
+                    .collect(),
                 grasp: trip.grasp.clone(),
                 carried: trip.carried.clone(),
                 fault: trip.fault,
@@ -191,12 +216,24 @@ pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Tri
                 )));
             }
         };
+        let looks = record
+            .looks
+            .into_iter()
+            .map(|look| {
+                Ok(Look {
+                    after_pushes: look.after_pushes,
+                    scene: apply(&scene, look.scene_change, k)?,
+                })
+            })
+            .collect::<std::result::Result<Vec<Look>, String>>()
+            .map_err(serde::de::Error::custom)?;
         trips.push(Trip {
             scene,
             clustering: record.clustering,
             cluster: record.cluster,
             pushes: record.pushes,
             skipped_pushes: record.skipped_pushes,
+            looks,
             grasp: record.grasp,
             carried: record.carried,
             fault: record.fault,

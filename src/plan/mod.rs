@@ -10,7 +10,7 @@ mod file;
 mod verify;
 
 pub use crate::outcome::{Outcome, Stats, Status};
-pub use file::{Moved, ObjectChange, TripRecord};
+pub use file::{LookRecord, Moved, ObjectChange, TripRecord};
 pub use verify::{Violation, verify, verify_clustering, verify_record, verify_trip};
 
 use serde::{Deserialize, Serialize};
@@ -29,11 +29,17 @@ pub struct Trip {
     pub clustering: Clustering,
     /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
     pub cluster: Option<usize>,
-    /// The fork pushes, in execution order.
+    /// The fork pushes, in execution order (corrective pushes planned on a later look included).
     pub pushes: Vec<Push>,
     /// Pushes that could not be planned, with their reasons.
     pub skipped_pushes: Vec<SkippedPush>,
-    /// The grasp, planned on the scene predicted after the pushes.
+    /// New observations made during the trip, in order, each after some of its pushes: what follows
+    /// a look (corrective pushes, the grasp) was planned on it. Empty when the whole trip was
+    /// planned on `scene`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub looks: Vec<Look>,
+    /// The grasp, planned on the table predicted after the pushes: `scene` after all of them, or,
+    /// when the trip looked again, the last look's scene after the pushes that follow it.
     pub grasp: Grasp,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
@@ -43,13 +49,33 @@ pub struct Trip {
     pub fault: Option<Fault>,
 }
 
+/// A new observation during a trip, after its first `after_pushes` pushes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Look {
+    /// How many of the trip's pushes had been made.
+    pub after_pushes: usize,
+    /// The table as observed then (same workspace and gripper as the trip's scene).
+    pub scene: SceneSpec,
+}
+
+impl Trip {
+    /// The scene on which the trip's pushes from `start` on were planned, and that start: the last
+    /// look's, or the trip's own scene from push 0.
+    pub fn last_plan_scene(&self) -> (&SceneSpec, usize) {
+        self.looks
+            .last()
+            .map_or((&self.scene, 0), |look| (&look.scene, look.after_pushes))
+    }
+}
+
 /// The gripper came down on top of an object while descending, which stopped the trip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "during", rename_all = "snake_case")]
 pub enum Fault {
     /// During the descent of a fork push; later pushes and the grasp were not made.
     Push {
-        /// The push, counted from 0 within the trip.
+        /// The push, counted from 0 within the trip (over all its pushes, corrective ones included).
         push: usize,
         /// The object landed on.
         object: ObjectId,

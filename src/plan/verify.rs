@@ -7,7 +7,10 @@
 //!   ends where the push says; its straight sweep touches no other object; the jaw line is
 //!   perpendicular to the push; the fingers at the approach point overlap no object, do not cut into
 //!   the pushed object at contact, and their sweep to the end of the push touches no other object;
-//! - **grasp**, on the table after the pushes: the opening lies within the stroke; the open plates
+//! - **looks** (new observations during a trip): each after a number of pushes in order, with the
+//!   trip's workspace and gripper and no object the trip's table did not hold; the pushes after a
+//!   look are checked on it;
+//! - **grasp**, on the table after the pushes (after the last look, on it): the opening lies within the stroke; the open plates
 //!   overlap no object; every object the grasp claims lies between the plates; the claimed closed width
 //!   is positive and at most both the sum of their diameters (objects may turn while the jaws close)
 //!   and the gap between the open plates (the plates are short, so they may close past parts of
@@ -68,8 +71,9 @@ pub fn verify(plan: &Plan) -> Vec<Violation> {
 /// - the robot time is a finite, non-negative number of seconds;
 /// - no object is carried twice;
 /// - with plans applied exactly (`ideal`), each trip carries exactly what its grasp claims (unless a
-///   landing stopped it) and only objects on its table, and each trip's table is the previous one's
-///   after its pushes less what it carried;
+///   landing stopped it) and only objects on its table, each look during a trip is its table after
+///   the pushes made before the look, and each trip's table is the previous one's after its pushes
+///   less what it carried;
 /// - with other executors (physics, a robot), objects may topple out of view and come back, or be
 ///   lifted along with others: a trip's table holds only objects seen before and not yet carried, and
 ///   what a trip carries was seen before and not yet carried;
@@ -152,18 +156,36 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
         }
         carried.extend(this_trip);
         if exact {
-            // The next table: this one after the pushes, less what was carried.
+            // Every look: this table after the pushes made before it. The next table: this one
+            // after all the pushes, less what was carried.
             let mut poses: Vec<(ObjectId, [f64; 3])> = trip
                 .scene
                 .objects
                 .iter()
                 .map(|o| (o.id, [o.pose.x, o.pose.y, o.pose.yaw]))
                 .collect();
-            for push in &trip.pushes {
+            let mut looks = trip.looks.iter().enumerate().peekable();
+            for (n, push) in trip.pushes.iter().enumerate() {
+                while let Some((l, look)) = looks.next_if(|(_, look)| look.after_pushes == n) {
+                    if !same_table(&poses, &look.scene) {
+                        add(
+                            Some(k),
+                            format!("look {l} is not the trip's table after its first {n} pushes"),
+                        );
+                    }
+                }
                 if let Some(entry) = poses.iter_mut().find(|(id, _)| *id == push.object) {
                     let moved = push.displacement();
                     entry.1[0] += moved.x;
                     entry.1[1] += moved.y;
+                }
+            }
+            for (l, look) in looks {
+                if !same_table(&poses, &look.scene) {
+                    add(
+                        Some(k),
+                        format!("look {l} is not the trip's table after its pushes"),
+                    );
                 }
             }
             poses.retain(|(id, _)| !carried.contains(id));
@@ -199,6 +221,20 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
     found
 }
 
+/// Whether `scene` holds exactly these objects at these poses, in order.
+fn same_table(poses: &[(ObjectId, [f64; 3])], scene: &crate::scene::SceneSpec) -> bool {
+    poses.len() == scene.objects.len()
+        && poses
+            .iter()
+            .zip(&scene.objects)
+            .all(|((id, pose), object)| {
+                let p = object.pose;
+                *id == object.id
+                    && (p.x - pose[0]).abs() + (p.y - pose[1]).abs() + (p.yaw - pose[2]).abs()
+                        <= 1e-9
+            })
+}
+
 /// Every violation in one trip.
 pub fn verify_trip(trip: &Trip) -> Vec<String> {
     let scene = match Scene::new(trip.scene.clone()) {
@@ -207,8 +243,52 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     };
     let mut found = Vec::new();
     check_clustering(&scene, trip, &mut found);
-    let world = check_pushes(&scene, trip, &mut found);
-    check_grasp(&scene, &world, trip, &mut found);
+    // The pushes up to the first look on the trip's scene, each later run of pushes on the look
+    // before it, the grasp after the last run.
+    let mut tables = vec![(scene, 0)];
+    for (n, look) in trip.looks.iter().enumerate() {
+        let start = tables.last().map_or(0, |t| t.1);
+        if look.after_pushes < start || look.after_pushes > trip.pushes.len() {
+            found.push(format!(
+                "look {n}: after push {} is out of order (the trip has {} pushes)",
+                look.after_pushes,
+                trip.pushes.len()
+            ));
+            return found;
+        }
+        if look.scene.workspace != trip.scene.workspace || look.scene.gripper != trip.scene.gripper
+        {
+            found.push(format!(
+                "look {n}: its workspace or gripper is not the trip's"
+            ));
+        }
+        if let Some(new) = look
+            .scene
+            .objects
+            .iter()
+            .find(|o| !trip.scene.objects.iter().any(|t| t.id == o.id))
+        {
+            found.push(format!(
+                "look {n}: object {} was not on the trip's table",
+                new.id
+            ));
+        }
+        match Scene::new(look.scene.clone()) {
+            Ok(seen) => tables.push((seen, look.after_pushes)),
+            Err(e) => {
+                found.push(format!("look {n}: its scene is invalid: {e}"));
+                return found;
+            }
+        }
+    }
+    let mut world = Vec::new();
+    for (k, (table, start)) in tables.iter().enumerate() {
+        let end = tables.get(k + 1).map_or(trip.pushes.len(), |t| t.1);
+        world = check_pushes(table, trip, *start..end, &mut found);
+    }
+    if let Some((table, _)) = tables.last() {
+        check_grasp(table, &world, trip, &mut found);
+    }
     found
 }
 
@@ -304,15 +384,27 @@ fn fingers(
         .collect()
 }
 
-/// Checks the pushes in order and returns the outlines after them.
-fn check_pushes(scene: &Scene, trip: &Trip, found: &mut Vec<String>) -> Vec<ConvexPolygon> {
+/// Checks the trip's pushes numbered `range`, in order on `scene`, and returns the outlines after
+/// them.
+fn check_pushes(
+    scene: &Scene,
+    trip: &Trip,
+    range: std::ops::Range<usize>,
+    found: &mut Vec<String>,
+) -> Vec<ConvexPolygon> {
     let gripper = scene.gripper();
     let mut world: Vec<ConvexPolygon> = (0..scene.len())
         .map(|i| scene.world_polygon(i).clone())
         .collect();
     let mut poses: Vec<_> = scene.objects().iter().map(|o| o.pose).collect();
     let chosen: Option<&Vec<ObjectId>> = trip.cluster.and_then(|k| trip.clustering.clusters.get(k));
-    for (n, push) in trip.pushes.iter().enumerate() {
+    for (n, push) in trip
+        .pushes
+        .iter()
+        .enumerate()
+        .take(range.end)
+        .skip(range.start)
+    {
         let Some(index) = scene.index_of(push.object) else {
             found.push(format!(
                 "push {n}: object {} is not on the table",

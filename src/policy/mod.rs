@@ -12,6 +12,13 @@
 //!   paper's clustering, SOCP pushes) separate the two effects. The push planner's intended grasp is
 //!   offered to the grasp planner as a candidate.
 //!
+//! After a trip's pushes the loop looks at the table again (`run.observe_after_pushes`, default on)
+//! and plans the rest of the trip on what it sees ([`Policy::correct_trip`]): the grasp where the
+//! objects are, not where the pushes were meant to leave them, and, when the row did not form,
+//! corrective pushes (at most `run.max_corrections` rounds, each followed by another look). Pushes
+//! cost robot time, not trips; every look costs an observation. With the option off the grasp is
+//! made on the predicted table, as the Push-MOG paper does to save that observation.
+//!
 //! When the push planner finds no row for a whole cluster of three or more, its largest sub-clusters
 //! are tried and the object left out waits for a later trip. When the multi-object planner finds nothing
 //! for a cluster, a single-object grasp of one of its
@@ -191,6 +198,13 @@ pub struct LoopSettings {
     pub max_failed_attempts: usize,
     /// Trips allowed per object on the table at the start (at least one trip). Default 3.
     pub max_trips_per_object: f64,
+    /// Look at the table again after a trip's pushes and plan its grasp on what is seen
+    /// ([`Policy::replan_grasp`]), at the cost of one more observation; `false` grasps the table
+    /// predicted after the pushes, as the Push-MOG paper does to save that observation. Default true.
+    pub observe_after_pushes: bool,
+    /// Rounds of corrective pushes a trip may make after its first pushes, each planned on a new
+    /// observation (needs `observe_after_pushes`). Default 2.
+    pub max_corrections: usize,
 }
 
 impl Default for LoopSettings {
@@ -198,6 +212,8 @@ impl Default for LoopSettings {
         Self {
             max_failed_attempts: 10,
             max_trips_per_object: 3.0,
+            observe_after_pushes: true,
+            max_corrections: 2,
         }
     }
 }
@@ -251,6 +267,13 @@ impl PolicySettings {
             self.run.max_failed_attempts,
             (1, 1000),
             "each attempt is a planning call",
+        )?;
+        crate::error::count_in_range(
+            "run",
+            "max_corrections",
+            self.run.max_corrections,
+            (0, 10),
+            "each round is an observation and more pushes within one trip",
         )?;
         crate::error::in_range(
             "run",

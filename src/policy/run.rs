@@ -14,7 +14,7 @@ use super::trip::TripContext;
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;
-use crate::plan::{Fault, Plan, RunStatus, StopReason, Trip};
+use crate::plan::{Fault, Look, Plan, RunStatus, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
 use crate::time_model::{GraspPath, PushPath};
 
@@ -113,61 +113,88 @@ impl<'a> Run<'a> {
             self.in_a_row += 1;
             return Ok(None);
         };
-        if self.verify_first {
-            let record = Trip {
-                scene: observed.to_spec(),
-                clustering: trip.clustering.clone(),
-                cluster: trip.cluster,
-                pushes: trip.pushes.clone(),
-                skipped_pushes: trip.skipped_pushes.clone(),
-                grasp: trip.grasp.clone(),
-                carried: Vec::new(),
-                fault: None,
-            };
-            if let Some(problem) = crate::plan::verify_trip(&record).first() {
-                return Err(crate::error::Error::field(
-                    format!("trip {}", self.trips.len()),
-                    "plan",
-                    format!("refused before acting: the verifier says {problem}"),
-                ));
+        let run_settings = &self.policy.settings().run;
+        let mut record = Trip {
+            scene: observed.to_spec(),
+            clustering: trip.clustering.clone(),
+            cluster: trip.cluster,
+            pushes: trip.pushes.clone(),
+            skipped_pushes: trip.skipped_pushes.clone(),
+            looks: Vec::new(),
+            grasp: trip.grasp.clone(),
+            carried: Vec::new(),
+            fault: None,
+        };
+        self.refuse_unless_verified(&record)?;
+        // Push; then, if anything was pushed, look again and plan the rest of the trip on what is
+        // seen: corrective pushes (at most `max_corrections` rounds) and the grasp.
+        let mut current = trip;
+        let mut from = 0;
+        loop {
+            for (k, push) in record.pushes.iter().enumerate().skip(from) {
+                if let Some(landing) = executor.push(push)? {
+                    record.fault = Some(Fault::Push {
+                        push: k,
+                        object: landing.object,
+                    });
+                    break;
+                }
             }
-        }
-        let mut fault = None;
-        for (k, push) in trip.pushes.iter().enumerate() {
-            if let Some(landing) = executor.push(push)? {
-                fault = Some(Fault::Push {
-                    push: k,
-                    object: landing.object,
-                });
+            if record.fault.is_some()
+                || record.pushes.len() == from
+                || !run_settings.observe_after_pushes
+            {
                 break;
             }
+            let after = executor.observe()?;
+            let may_push = record.looks.len() < run_settings.max_corrections;
+            let Some(next) = self
+                .policy
+                .correct_trip(&after, &current, &self.context, may_push)?
+            else {
+                break;
+            };
+            from = record.pushes.len();
+            record.looks.push(Look {
+                after_pushes: from,
+                scene: after.to_spec(),
+            });
+            record.pushes.extend(next.pushes.iter().cloned());
+            record.grasp = next.grasp.clone();
+            current = next;
+            self.refuse_unless_verified(&record)?;
         }
-        let carried = if fault.is_none() {
-            let result = executor.grasp(&trip.grasp)?;
-            fault = result.landing.map(|landing| Fault::Grasp {
+        if record.fault.is_none() {
+            let result = executor.grasp(&record.grasp)?;
+            record.fault = result.landing.map(|landing| Fault::Grasp {
                 object: landing.object,
             });
-            result.carried
-        } else {
-            Vec::new()
-        };
-        if carried.is_empty() {
+            record.carried = result.carried;
+        }
+        if record.carried.is_empty() {
             self.in_a_row += 1;
-            self.context.failed.push(trip.grasp.jaws);
+            self.context.failed.push(record.grasp.jaws);
         } else {
             self.in_a_row = 0;
         }
-        self.trips.push(Trip {
-            scene: observed.to_spec(),
-            clustering: trip.clustering,
-            cluster: trip.cluster,
-            pushes: trip.pushes,
-            skipped_pushes: trip.skipped_pushes,
-            grasp: trip.grasp,
-            carried,
-            fault,
-        });
+        self.trips.push(record);
         Ok(None)
+    }
+
+    /// With [`Run::verify_before_acting`], an error unless the verifier passes the trip as planned
+    /// so far (nothing of what it finds wrong has been sent).
+    fn refuse_unless_verified(&self, record: &Trip) -> Result<()> {
+        if !self.verify_first {
+            return Ok(());
+        }
+        match crate::plan::verify_trip(record).first() {
+            None => Ok(()),
+            Some(problem) => Err(crate::error::Error::field(
+                format!("trip {}", self.trips.len()),
+                "plan",
+                format!("refused before acting: the verifier says {problem}"),
+            )),
+        }
     }
 
     /// `Some(None)` when the table is clear, `Some(Some(reason))` when the run must stop, `None` to
@@ -261,8 +288,8 @@ impl<'a> Run<'a> {
 }
 
 /// Robot time of a run by the time model: every trip as planned (a trip stopped by a landing is
-/// charged in full, a stand-in for recovering from it) and an observation before every trip and
-/// every planning attempt that found nothing, seconds.
+/// charged in full, a stand-in for recovering from it), an observation before every trip and every
+/// planning attempt that found nothing, and one for every look during a trip, seconds.
 pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed: usize) -> f64 {
     let trips_seconds: f64 = trips
         .iter()
@@ -283,5 +310,6 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
             model.trip_seconds(gripper, &pushes, &grasp)
         })
         .sum();
-    trips_seconds + model.observation * (trips.len() + failed) as f64
+    let looks: usize = trips.iter().map(|trip| trip.looks.len()).sum();
+    trips_seconds + model.observation * (trips.len() + failed + looks) as f64
 }

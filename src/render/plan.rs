@@ -9,7 +9,7 @@ use super::svg::{Canvas, Style};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull};
 use crate::plan::{Plan, Trip};
-use crate::scene::{Gripper, Scene};
+use crate::scene::Scene;
 
 /// Colours of trips, cycled (Tableau 10).
 const PALETTE: [&str; 10] = [
@@ -42,28 +42,59 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
     }
     let mut figure = Figure::new(&scene, options);
     figure.objects(&fills);
-    let gripper = scene.gripper().clone();
     for (k, trip) in plan.trips.iter().enumerate() {
-        draw_trip(figure.canvas(), trip, k, &gripper)?;
+        let table = Scene::new(trip.scene.clone())?;
+        draw_trip(figure.canvas(), trip, k, &table, 0..trip.pushes.len(), true);
     }
     figure.legend_entry("#202020", "jaw plates");
     figure.legend_entry("#808080", "push (dashed: target)");
     Ok(figure.finish(title))
 }
 
-/// One trip's layer: its cluster outlined and numbered, push arrows with dashed targets, jaw plates.
-fn draw_trip(canvas: &mut Canvas, trip: &Trip, k: usize, gripper: &Gripper) -> Result<()> {
+/// The tables a trip was planned on, each with the numbers of the pushes made from it: the trip's
+/// own scene, then every look during the trip. The grasp follows the last.
+fn stages(trip: &Trip) -> Result<Vec<(Scene, std::ops::Range<usize>)>> {
+    let mut tables = vec![(Scene::new(trip.scene.clone())?, 0)];
+    for look in &trip.looks {
+        tables.push((Scene::new(look.scene.clone())?, look.after_pushes));
+    }
+    let ends: Vec<usize> = tables
+        .iter()
+        .skip(1)
+        .map(|t| t.1)
+        .chain([trip.pushes.len()])
+        .collect();
+    Ok(tables
+        .into_iter()
+        .zip(ends)
+        .map(|((table, start), end)| (table, start..end.max(start)))
+        .collect())
+}
+
+/// One trip's layer on `table`: its cluster outlined and numbered, the pushes numbered `pushes`
+/// as arrows from where each started with dashed targets, and, with `jaws`, the jaw plates.
+fn draw_trip(
+    canvas: &mut Canvas,
+    trip: &Trip,
+    k: usize,
+    table: &Scene,
+    pushes: std::ops::Range<usize>,
+    jaws: bool,
+) {
     let colour = trip_colour(k);
-    let trip_scene = Scene::new(trip.scene.clone())?;
-    let members: Vec<usize> = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
-        Some(cluster) => trip_scene.indices_of(cluster)?,
-        None => trip_scene.indices_of(&trip.grasp.objects)?,
+    let cluster = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
+        Some(cluster) => cluster,
+        None => &trip.grasp.objects,
     };
+    let members: Vec<usize> = cluster
+        .iter()
+        .filter_map(|&id| table.index_of(id))
+        .collect();
     canvas.begin_group(&format!("trip-{}", k + 1));
     // The cluster's outline, slightly enlarged around its objects.
     let points: Vec<Point2<f64>> = members
         .iter()
-        .flat_map(|&i| trip_scene.world_polygon(i).vertices().to_vec())
+        .flat_map(|&i| table.world_polygon(i).vertices().to_vec())
         .collect();
     let hull = convex_hull(&points);
     if hull.len() >= 3 {
@@ -71,26 +102,28 @@ fn draw_trip(canvas: &mut Canvas, trip: &Trip, k: usize, gripper: &Gripper) -> R
         style.dash = "6 3".to_string();
         canvas.polygon(&grow(&hull, 0.006), &style);
     }
-    for push in &trip.pushes {
-        let Some(i) = trip_scene.index_of(push.object) else {
+    for push in trip.pushes.get(pushes).unwrap_or_default() {
+        let Some(i) = table.index_of(push.object) else {
             continue;
         };
-        let object = &trip_scene.objects()[i];
-        let target = object.polygon.transformed(&push.to.isometry());
+        let polygon = &table.objects()[i].polygon;
+        let target = polygon.transformed(&push.to.isometry());
         let mut ghost = Style::outline(colour, 1.2);
         ghost.dash = "3 2".to_string();
         canvas.polygon(target.vertices(), &ghost);
         canvas.arrow(
-            &trip_scene.centroid(i),
+            &polygon.transformed(&push.from.isometry()).centroid(),
             &target.centroid(),
             8.0,
             &Style::outline(colour, 2.0),
         );
     }
-    for plate in trip.grasp.jaws.plates(gripper) {
-        let mut style = Style::filled(colour, "#202020");
-        style.fill_opacity = 0.85;
-        canvas.polygon(plate.vertices(), &style);
+    if jaws {
+        for plate in trip.grasp.jaws.plates(table.gripper()) {
+            let mut style = Style::filled(colour, "#202020");
+            style.fill_opacity = 0.85;
+            canvas.polygon(plate.vertices(), &style);
+        }
     }
     // The trip number beside the cluster.
     if let Some(top) = points.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)) {
@@ -99,16 +132,33 @@ fn draw_trip(canvas: &mut Canvas, trip: &Trip, k: usize, gripper: &Gripper) -> R
         canvas.label(&at, &(k + 1).to_string(), 10.0, "white");
     }
     canvas.end_group();
-    Ok(())
 }
 
 /// The SVG drawing of trip `k` of a run over the scene it was planned on: the objects it carried
-/// filled, its cluster, pushes and jaws.
+/// filled, its cluster, pushes and jaws. Of a trip that looked again (`Trip::looks`), stage `s` is
+/// its `s`-th table: 0 the trip's scene, then each look, with the pushes made from it; the jaws are
+/// drawn on the last.
 ///
 /// # Errors
-/// Scene validation errors for a corrupt trip.
-pub fn trip_svg(trip: &Trip, k: usize, options: &RenderOptions, title: &str) -> Result<String> {
-    let scene = Scene::new(trip.scene.clone())?;
+/// Scene validation errors for a corrupt trip; [`Error::InvalidField`] for a stage the trip does
+/// not have.
+pub fn trip_svg(
+    trip: &Trip,
+    k: usize,
+    stage: usize,
+    options: &RenderOptions,
+    title: &str,
+) -> Result<String> {
+    let mut stages = stages(trip)?;
+    let last = stages.len() - 1;
+    if stage > last {
+        return Err(Error::field(
+            format!("trip {k}"),
+            "stage",
+            format!("the trip has stages 0 to {last}, not {stage}"),
+        ));
+    }
+    let (scene, pushes) = stages.swap_remove(stage);
     let fills: Vec<Option<String>> = scene
         .objects()
         .iter()
@@ -116,13 +166,14 @@ pub fn trip_svg(trip: &Trip, k: usize, options: &RenderOptions, title: &str) -> 
         .collect();
     let mut figure = Figure::new(&scene, options);
     figure.objects(&fills);
-    draw_trip(figure.canvas(), trip, k, scene.gripper())?;
+    draw_trip(figure.canvas(), trip, k, &scene, pushes, stage == last);
     figure.legend_entry("#202020", "jaw plates");
     Ok(figure.finish(title))
 }
 
 /// A self-contained HTML page to step through a run trip by trip (buttons or arrow keys), each frame
-/// the observation the trip was planned on with its pushes and grasp, and what it carried.
+/// the observation the trip was planned on with its pushes and grasp, and what it carried; a trip
+/// that looked again during its pushes has a frame for every look.
 ///
 /// # Errors
 /// As [`trip_svg`].
@@ -130,11 +181,8 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
     let mut frames = Vec::with_capacity(plan.trips.len());
     for (k, trip) in plan.trips.iter().enumerate() {
         let carried: Vec<String> = trip.carried.iter().map(|id| id.to_string()).collect();
-        let title = format!(
-            "trip {} of {}: {} pushes, carried {} ({})",
-            k + 1,
-            plan.trips.len(),
-            trip.pushes.len(),
+        let carried = format!(
+            "carried {} ({})",
             trip.carried.len(),
             if carried.is_empty() {
                 "nothing".to_string()
@@ -142,7 +190,20 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
                 carried.join(", ")
             }
         );
-        frames.push((title.clone(), trip_svg(trip, k, options, &title)?));
+        let stages = stages(trip)?;
+        for (stage, (_, pushes)) in stages.iter().enumerate() {
+            let look = match stage {
+                0 => String::new(),
+                _ => format!(", look {} after {} pushes", stage, pushes.start),
+            };
+            let next = if stage + 1 == stages.len() {
+                format!("{} pushes, then the grasp; {carried}", pushes.len())
+            } else {
+                format!("{} pushes, then a new look", pushes.len())
+            };
+            let title = format!("trip {} of {}{look}: {next}", k + 1, plan.trips.len());
+            frames.push((title.clone(), trip_svg(trip, k, stage, options, &title)?));
+        }
     }
     let mut html = String::from(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>pushmog replay</title>\n\

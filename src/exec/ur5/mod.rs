@@ -273,6 +273,8 @@ pub struct Ur5<L: RobotLink> {
     runner: StepRunner<L>,
     observation: Observation,
     scene: Option<Scene>,
+    /// Whether the arm has pushed since the table was last read.
+    pushed: bool,
     record: Vec<ExecutedTrip>,
 }
 
@@ -283,6 +285,7 @@ impl<L: RobotLink> Ur5<L> {
             runner,
             observation,
             scene: None,
+            pushed: false,
             record: Vec::new(),
         }
     }
@@ -327,6 +330,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
     /// Starts a new run on `scene` (the first observation); the trip record starts afresh.
     fn reset(&mut self, scene: &Scene) -> Result<()> {
         self.scene = Some(scene.clone());
+        self.pushed = false;
         self.record.clear();
         Ok(())
     }
@@ -339,6 +343,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
             .translator()
             .fork_push(self.scene()?, push, &name);
         self.runner.run(steps)?;
+        self.pushed = true;
         self.current_trip()?.pushes.push(push.clone());
         Ok(None)
     }
@@ -362,12 +367,16 @@ impl<L: RobotLink> Executor for Ur5<L> {
             trip.carried.clone_from(&carried);
         }
         self.scene = Some(after);
+        self.pushed = false;
         Ok(GraspResult::carried(carried))
     }
 
+    /// The table as last read: read again when nothing was read yet or the arm has pushed since
+    /// (after a grasp the table is read anyway, to see what was carried).
     fn observe(&mut self) -> Result<Scene> {
-        if self.scene.is_none() {
+        if self.scene.is_none() || self.pushed {
             self.scene = Some(self.observation.read()?);
+            self.pushed = false;
         }
         Ok(self.scene()?.clone())
     }
