@@ -239,6 +239,7 @@ impl PolicySettings {
         s.socp.model = s.grasp_model.clone();
         s.socp.fork = s.fork.clone();
         s.socp.min_push = s.min_push;
+        s.socp.time_model = s.time_model.clone();
         s.single.model = s.grasp_model.clone();
         s.multi.model = s.grasp_model.clone();
         s

@@ -42,6 +42,7 @@ use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation}
 use crate::grasp::{Body, GraspModel, JawPose, Squeeze, squeeze, squeeze_bodies};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
+use crate::time_model::TimeModel;
 
 /// Settings of [`Socp`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -84,6 +85,10 @@ pub struct SocpSettings {
     /// Fork-push geometry. In a policy's settings it is set once (`PolicySettings::fork`).
     #[serde(skip)]
     pub fork: ForkSettings,
+    /// Seconds of a push, to choose which members move. In a policy's settings it is the
+    /// policy's (`PolicySettings::time_model`).
+    #[serde(skip)]
+    pub time_model: TimeModel,
 }
 
 impl Default for SocpSettings {
@@ -101,6 +106,7 @@ impl Default for SocpSettings {
             prefer_held_rows: true,
             model: GraspModel::default(),
             fork: ForkSettings::default(),
+            time_model: TimeModel::default(),
         }
     }
 }
@@ -396,6 +402,9 @@ impl Socp {
     }
 }
 
+/// Pushes in order, the targets they reach and the plates' centre line across the axis.
+type Realised = (Vec<Push>, Vec<Point2<f64>>, f64);
+
 /// The jaws the row was built for: closing along `axis`, centred on the row's extent along it and on
 /// its centre line across, fully open.
 fn intended_grasp(
@@ -527,22 +536,17 @@ impl PushPlanner for Socp {
         };
         // Turns a solved row into pushes: hold members that would barely move (solving again with
         // them fixed), sequence the pushes, and judge the row with the grasp model.
-        let attempt = |axis: &Vector2<f64>,
+        // Targets held where members barely move, then pushes sequenced. A member that cannot be
+        // pushed (its path is blocked, or there is no room for the fingers) is held where it is
+        // and the row solved again around it, while another member is left to move.
+        let realise = |axis: &Vector2<f64>,
                        order: &[usize],
-                       solution: &RowSolution|
-         -> std::result::Result<Attempt, (ObjectId, SkipReason)> {
-            let mut fixed: Vec<bool> = (0..members.len())
-                .map(|m| {
-                    nalgebra::distance(&solution.targets[m], &starts[m]) < self.settings.min_push
-                })
-                .collect();
-            let mut targets = solution.targets.clone();
-            let mut centre_line = solution.centre_line;
-            let mut refine = fixed.iter().any(|&f| f);
-            // A member that cannot be pushed (its path is blocked, or there is no room for the
-            // fingers) is held where it is and the row solved again around it, while another
-            // member is left to move.
-            let pushes = loop {
+                       mut fixed: Vec<bool>,
+                       mut targets: Vec<Point2<f64>>,
+                       mut centre_line: f64,
+                       mut refine: bool|
+         -> std::result::Result<Realised, (ObjectId, SkipReason)> {
+            loop {
                 if refine {
                     let refined = solve(axis, order, &fixed);
                     if refined.solved() {
@@ -557,7 +561,7 @@ impl PushPlanner for Socp {
                     }
                 }
                 match self.sequence(scene, &members, &targets) {
-                    Ok(pushes) => break pushes,
+                    Ok(pushes) => return Ok((pushes, targets, centre_line)),
                     Err((object, reason)) => {
                         let stuck = members
                             .iter()
@@ -579,7 +583,65 @@ impl PushPlanner for Socp {
                         refine = false;
                     }
                 }
-            };
+            }
+        };
+        let attempt = |axis: &Vector2<f64>,
+                       order: &[usize],
+                       solution: &RowSolution|
+         -> std::result::Result<Attempt, (ObjectId, SkipReason)> {
+            let fixed: Vec<bool> = (0..members.len())
+                .map(|m| {
+                    nalgebra::distance(&solution.targets[m], &starts[m]) < self.settings.min_push
+                })
+                .collect();
+            let refine = fixed.iter().any(|&f| f);
+            let (mut pushes, mut targets, mut centre_line) = realise(
+                axis,
+                order,
+                fixed.clone(),
+                solution.targets.clone(),
+                solution.centre_line,
+                refine,
+            )?;
+            // Fewer pushes: a push costs a fixed time (lowering and raising the fork) that many
+            // centimetres of pushing take; the row with one more member held where it is may take
+            // less time, though not less distance.
+            if pushes.len() >= 2 {
+                let seconds = |pushes: &[Push]| -> f64 {
+                    pushes
+                        .iter()
+                        .map(|p| {
+                            self.settings
+                                .time_model
+                                .nominal_push_seconds(gripper, p.distance)
+                        })
+                        .sum()
+                };
+                let mut best = seconds(&pushes);
+                for m in 0..members.len() {
+                    if fixed[m] || targets[m] == starts[m] {
+                        continue;
+                    }
+                    let mut held = fixed.clone();
+                    held[m] = true;
+                    let refined = solve(axis, order, &held);
+                    if !refined.solved() {
+                        continue;
+                    }
+                    if let Ok(fewer) = realise(
+                        axis,
+                        order,
+                        held,
+                        refined.targets,
+                        refined.centre_line,
+                        false,
+                    ) && seconds(&fewer.0) < best - 1e-9
+                    {
+                        best = seconds(&fewer.0);
+                        (pushes, targets, centre_line) = fewer;
+                    }
+                }
+            }
             let skipped = (0..members.len())
                 .filter(|&m| targets[m] == starts[m])
                 .map(|m| SkippedPush {
