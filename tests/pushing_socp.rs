@@ -1,11 +1,11 @@
 //! The push-target SOCP: known optima, infeasible clusters, and plans that verify.
 
-use nalgebra::Point2;
+use nalgebra::{Point2, Vector2};
 use pushmog::cluster::{Clusterer, Hierarchical};
 use pushmog::geometry::{ConvexPolygon, distance};
 use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
 use pushmog::plan::Status;
-use pushmog::push::{PushPlanner, SkipReason, Socp, TowardCentral, predict};
+use pushmog::push::{PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, predict};
 use pushmog::scene::{
     GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
     generate_scene,
@@ -168,4 +168,51 @@ fn a_member_the_fingers_cannot_reach_is_held_and_the_other_comes_to_it() {
     let gap = after.centroid(1).x - after.centroid(0).x;
     assert!((gap - 0.035).abs() < 1e-6, "{gap}");
     assert!((outcome.stats.objective.unwrap() - 0.065).abs() < 1e-6);
+}
+
+#[test]
+fn targets_stay_clear_of_the_workspace_edge() {
+    // Pushes end millimetres from their targets, and an object that leaves the workspace is lost:
+    // targets keep the edge margin (5 mm), or the start's own distance from an edge if smaller.
+    let margin = SocpSettings::default().edge_margin;
+    let mut checked = 0;
+    for seed in 0..10 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let workspace = scene.workspace().clone();
+        let room = |s: &Scene, i: usize| {
+            let outline = s.world_polygon(i);
+            let (x, y) = (
+                outline.projection(&Vector2::x()),
+                outline.projection(&Vector2::y()),
+            );
+            [
+                x.0 - workspace.min[0],
+                workspace.max[0] - x.1,
+                y.0 - workspace.min[1],
+                workspace.max[1] - y.1,
+            ]
+        };
+        let clustering = Hierarchical::default().cluster(&scene).unwrap().value;
+        for cluster in clustering.clusters.iter().filter(|c| c.len() > 1) {
+            let outcome = Socp::default().plan(&scene, cluster).unwrap();
+            let after = predict(&scene, &outcome.value.pushes).unwrap();
+            for push in &outcome.value.pushes {
+                let (before, now) = (
+                    room(&scene, scene.index_of(push.object).unwrap()),
+                    room(&after, after.index_of(push.object).unwrap()),
+                );
+                for side in 0..4 {
+                    assert!(
+                        now[side] >= margin.min(before[side]) - 1e-7,
+                        "seed {seed}, object {}: {:.2} mm from an edge",
+                        push.object,
+                        now[side] * 1e3
+                    );
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 50, "{checked} pushes");
 }

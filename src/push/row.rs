@@ -14,7 +14,7 @@
 //!             v·p_i − h_i(−v) ≤ c − s,   v·p_i + h_i(v) ≥ c + s           (each straddles the plates' centre line)
 //!             |v·p_i − c| ≤ τ                                            (centroids near that line)
 //!             n_iq·p_i ≥ β_iq                                            (clear of outside object q)
-//!             workspace bounds on p_i,  p_i = p_i⁰ for objects held fixed
+//!             workspace bounds on p_i (an edge margin inside),  p_i = p_i⁰ for objects held fixed
 //! ```
 //!
 //! It is solved by clarabel (an interior-point method for conic programs); its status is kept.
@@ -50,6 +50,9 @@ pub(super) struct RowProblem<'a> {
     pub fences: &'a [Fence],
     /// The workspace.
     pub workspace: &'a Workspace,
+    /// How far inside the workspace's edges targets stay, or their start's distance from an edge
+    /// if smaller, metres.
+    pub edge: f64,
     /// Usable jaw gap minus the margin, metres.
     pub row_limit: f64,
     /// Gap kept between neighbours in the row, metres.
@@ -224,18 +227,17 @@ pub(super) fn solve_row(
         let mut near = along(i, &across, -1.0).to_vec();
         near.push((c, 1.0));
         inequalities.push(&near, problem.centring);
-        // Workspace: min + h(−e) ≤ p ≤ max − h(e) on both axes, 1 µm inside so that the solver's
-        // tolerance never puts a vertex outside.
+        // Workspace: min + h(−e) + k ≤ p ≤ max − h(e) − k on both axes, k the edge margin (or the
+        // start's own distance from that edge, if smaller) plus 1 µm, so that neither push error nor
+        // the solver's tolerance puts a vertex outside.
         for (dimension, unit) in [(0, Vector2::x()), (1, Vector2::y())] {
             let column = if dimension == 0 { px(i) } else { py(i) };
-            inequalities.push(
-                &[(column, 1.0)],
-                problem.workspace.max[dimension] - support(i, &unit) - INSIDE,
-            );
-            inequalities.push(
-                &[(column, -1.0)],
-                -(problem.workspace.min[dimension] + support(i, &-unit) + INSIDE),
-            );
+            let start = problem.starts[i][dimension];
+            let high = problem.workspace.max[dimension] - support(i, &unit);
+            let low = problem.workspace.min[dimension] + support(i, &-unit);
+            let kept = |room: f64| problem.edge.min(room.max(0.0)) + INSIDE;
+            inequalities.push(&[(column, 1.0)], high - kept(high - start));
+            inequalities.push(&[(column, -1.0)], -(low + kept(start - low)));
         }
     }
     for fence in problem.fences {

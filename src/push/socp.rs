@@ -66,6 +66,12 @@ pub struct SocpSettings {
     /// the simulator, rows whose centroids lie near that line are held far more often than rows
     /// whose centroids lie 10 mm or more off it (`pushmog grasp-agreement`).
     pub centring: f64,
+    /// How far inside the workspace's edges targets stay (or their start's distance from the edge,
+    /// if smaller), metres. Default 0.005: pushes end a median 2.4 mm and a 90th percentile 6.1 mm
+    /// from their targets in the simulator, and an object whose outline leaves the workspace can no
+    /// longer be planned for (targets 1 µm inside left one object outside in 5 of 100 paper-100
+    /// runs of push-mog-opt).
+    pub edge_margin: f64,
     /// Gap kept to objects outside the cluster (or the current gap, if smaller), metres. Default 0.002.
     pub clearance: f64,
     /// Outside objects further than this from every member are ignored, metres. Default 0.15.
@@ -100,6 +106,7 @@ impl Default for SocpSettings {
             gap: 0.001,
             straddle: 0.003,
             centring: 0.004,
+            edge_margin: 0.005,
             clearance: 0.002,
             neighbourhood: 0.15,
             min_push: 0.003,
@@ -129,11 +136,12 @@ impl SocpSettings {
         for (field, value, range, why) in counts {
             crate::error::count_in_range("socp", field, value, range, why)?;
         }
-        let lengths: [(&str, f64, (f64, f64)); 7] = [
+        let lengths: [(&str, f64, (f64, f64)); 8] = [
             ("margin", self.margin, (0.0, 0.05)),
             ("gap", self.gap, (0.0, 0.02)),
             ("straddle", self.straddle, (0.0, 0.05)),
             ("centring", self.centring, (0.0, 0.05)),
+            ("edge_margin", self.edge_margin, (0.0, 0.05)),
             ("clearance", self.clearance, (0.0, 0.05)),
             ("neighbourhood", self.neighbourhood, (0.0, 2.0)),
             ("min_push", self.min_push, (0.0, 0.1)),
@@ -506,6 +514,7 @@ impl PushPlanner for Socp {
             outlines: &outlines,
             fences: &fences,
             workspace: scene.workspace(),
+            edge: self.settings.edge_margin,
             row_limit: gripper.usable_gap() - self.settings.margin,
             gap: self.settings.gap,
             straddle: self.settings.straddle,
