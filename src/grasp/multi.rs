@@ -60,7 +60,10 @@ pub struct MultiObjectSettings {
     #[serde(skip)]
     pub model: GraspModel,
     /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
-    /// Default 4.
+    /// Default 8: with `min_probability` 0.75 a grasp may fail in at most two of them. With 4 (one
+    /// failure allowed) and the policies choosing pairs over single objects (`plan_several`),
+    /// push-mog's two-object grasps held in 65 of 84 noisy replays (77 %); with 8, 61 of 71 (86 %),
+    /// at the same simulated objects per trip (20 scenes).
     pub samples: usize,
     /// The noise of the other samples. Defaults: the simulator's.
     pub noise: Noise,
@@ -83,7 +86,7 @@ impl Default for MultiObjectSettings {
             angles: 12,
             opening_fraction: 1.0,
             model: GraspModel::default(),
-            samples: 4,
+            samples: 8,
             noise: Noise::default(),
             clearance_sigmas: 1.5,
             min_probability: 0.75,
