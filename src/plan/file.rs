@@ -8,10 +8,11 @@
 //! - `{"id", "pose"}`: the same object at a new pose;
 //! - a whole object: anything else (an object seen for the first time, or with a new outline).
 //!
-//! Objects of the previous scene not listed are gone. A look during a trip (a new observation after
-//! some of its pushes) is written the same way, as its change from the trip's own scene. A trip whose workspace or gripper differs from
-//! the previous one is written in full. Reading accepts both forms, so plans written before this
-//! format still read; reading then writing gives the same scenes exactly (numbers are not re-derived).
+//! Objects of the previous scene not listed are gone. A trip whose workspace or gripper differs from
+//! the previous one is written in full. A look during a trip (a new observation after some of its
+//! pushes) is written the same way, as its change from the trip's own scene. Reading accepts both
+//! forms, so plans written before this format still read; reading then writing gives the same scenes
+//! exactly (numbers are not re-derived).
 
 use std::collections::HashMap;
 

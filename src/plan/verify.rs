@@ -10,11 +10,11 @@
 //! - **looks** (new observations during a trip): each after a number of pushes in order, with the
 //!   trip's workspace and gripper and no object the trip's table did not hold; the pushes after a
 //!   look are checked on it;
-//! - **grasp**, on the table after the pushes (after the last look, on it): the opening lies within the stroke; the open plates
-//!   overlap no object; every object the grasp claims lies between the plates; the claimed closed width
-//!   is positive and at most both the sum of their diameters (objects may turn while the jaws close)
-//!   and the gap between the open plates (the plates are short, so they may close past parts of
-//!   objects beside them);
+//! - **grasp**, on the table after the pushes (after the last look, on it): the opening lies within
+//!   the stroke; the open plates overlap no object; every object the grasp claims lies between the
+//!   plates; the claimed closed width is positive and at most both the sum of their diameters
+//!   (objects may turn while the jaws close) and the gap between the open plates (the plates are
+//!   short, so they may close past parts of objects beside them);
 //! - **the record** ([`verify_record`]): times, objects carried once, tables that chain from trip to
 //!   trip, and a status that agrees with what is left.
 

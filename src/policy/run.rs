@@ -148,6 +148,8 @@ impl<'a> Run<'a> {
             }
             let after = executor.observe()?;
             let may_push = record.looks.len() < run_settings.max_corrections;
+            // Nothing on the table can be grasped: the grasp planned before is made (as the paper
+            // would), on the table it was planned for.
             let Some(next) = self
                 .policy
                 .correct_trip(&after, &current, &self.context, may_push)?
