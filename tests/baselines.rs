@@ -288,3 +288,52 @@ fn conformance_of_every_planner() {
         assert!(graspers[1].plan(&s, &[ObjectId(999)]).is_err());
     }
 }
+
+/// `plan_several` answers with two or more objects or nothing, and finds a grasp of two or more
+/// wherever the full search ranks one first, with a probability at least as high; on the tables
+/// predicted after pushes it also finds pairs where the full search preferred one object.
+#[test]
+fn plan_several_finds_the_pairs_the_full_search_finds() {
+    let planner = MultiObject::default();
+    let (mut several, mut pairs_first) = (0, 0);
+    for seed in 0..6 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let clustering = Hierarchical::default().cluster(&scene).unwrap().value;
+        for cluster in clustering.clusters.iter().filter(|c| c.len() > 1) {
+            // On the table predicted after the cluster's SOCP pushes, as a policy asks.
+            let pushes = pushmog::push::Socp::default()
+                .plan(&scene, cluster)
+                .unwrap()
+                .value;
+            let after = predict(&scene, &pushes.pushes).unwrap();
+            let hints: Vec<JawPose> = pushes.intended_grasp.into_iter().collect();
+            let pushed: Vec<ObjectId> = pushes.pushes.iter().map(|p| p.object).collect();
+            let all = planner
+                .plan_after_pushes(&after, cluster, &hints, &pushed, &[])
+                .unwrap();
+            let only = planner
+                .plan_several(&after, cluster, &hints, &pushed, &[])
+                .unwrap();
+            if let Some(grasp) = &only.value {
+                assert!(grasp.objects.len() >= 2, "seed {seed}: {grasp:?}");
+                several += 1;
+            }
+            if all.value.as_ref().is_some_and(|g| g.objects.len() >= 2) {
+                pairs_first += 1;
+                let found = only.value.as_ref().expect("a grasp of two or more");
+                assert!(
+                    only.stats.counter("probability") >= all.stats.counter("probability"),
+                    "seed {seed}"
+                );
+                assert!(found.objects.len() >= 2);
+            }
+        }
+    }
+    assert!(several >= pairs_first);
+    assert!(
+        several > pairs_first,
+        "the full search never preferred one object to a pair"
+    );
+    println!("{several} grasps of two or more, {pairs_first} ranked first by the full search");
+}
