@@ -100,7 +100,7 @@ class Planner:
         )
         if answer["trip"] is None:
             return None
-        return TripPlan(answer["trip"], "heuristic", 0.0)
+        return TripPlan(answer["trip"], "heuristic", float(answer["seconds"]))
 
     def run(
         self,

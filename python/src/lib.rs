@@ -232,7 +232,7 @@ impl Planner {
     /// The rest of a trip whose pushes have been made, planned on `scene`, a new look at the table
     /// (`Policy::correct_trip`): `trip` is the trip's plan as JSON (as `plan_trip` gave it, or as
     /// the last call of this gave it); `may_push` allows corrective pushes. Returns JSON `{"trip":
-    /// …}`, `null` when nothing on the table can be grasped.
+    /// …, "seconds": …}`, `trip` `null` when nothing on the table can be grasped.
     #[pyo3(signature = (scene, trip, context = None, may_push = true))]
     fn correct_trip(
         &self,
@@ -243,22 +243,19 @@ impl Planner {
         may_push: bool,
     ) -> PyResult<String> {
         let trip: TripPlan = check(json::from_json(trip, "trip"))?;
-        let corrected = match context {
-            Some(context) => {
-                let context = context.borrow();
-                let context = &context.context;
-                py.detach(|| {
-                    self.policy
-                        .correct_trip(&scene.scene, &trip, context, may_push)
-                })
-            }
-            None => py.detach(|| {
-                self.policy
-                    .correct_trip(&scene.scene, &trip, &Context::new(0), may_push)
-            }),
-        };
+        let fresh = Context::new(0);
+        let borrowed = context.map(|c| c.borrow());
+        let context = borrowed.as_ref().map_or(&fresh, |c| &c.context);
+        let started = std::time::Instant::now();
+        let corrected = py.detach(|| {
+            self.policy
+                .correct_trip(&scene.scene, &trip, context, may_push)
+        });
+        let seconds = started.elapsed().as_secs_f64();
         let corrected = check(corrected)?;
-        Ok(to_json(&serde_json::json!({ "trip": corrected })))
+        Ok(to_json(
+            &serde_json::json!({ "trip": corrected, "seconds": seconds }),
+        ))
     }
 
     /// Clears `scene` in a closed loop with the `ideal` executor (plans applied exactly) or the

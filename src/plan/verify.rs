@@ -118,10 +118,7 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
                 );
             } else {
                 for ((id, pose), object) in expected.iter().zip(&trip.scene.objects) {
-                    let p = object.pose;
-                    let off =
-                        (p.x - pose[0]).abs() + (p.y - pose[1]).abs() + (p.yaw - pose[2]).abs();
-                    if off > 1e-9 {
+                    if pose_off(object.pose, pose) > 1e-9 {
                         add(
                             Some(k),
                             format!("object {id} is not where the previous trip left it"),
@@ -227,12 +224,12 @@ fn same_table(poses: &[(ObjectId, [f64; 3])], scene: &crate::scene::SceneSpec) -
         && poses
             .iter()
             .zip(&scene.objects)
-            .all(|((id, pose), object)| {
-                let p = object.pose;
-                *id == object.id
-                    && (p.x - pose[0]).abs() + (p.y - pose[1]).abs() + (p.yaw - pose[2]).abs()
-                        <= 1e-9
-            })
+            .all(|((id, pose), object)| *id == object.id && pose_off(object.pose, pose) <= 1e-9)
+}
+
+/// How far `pose` is from `[x, y, yaw]`: the sum of the absolute differences.
+fn pose_off(pose: crate::scene::Pose, expected: &[f64; 3]) -> f64 {
+    (pose.x - expected[0]).abs() + (pose.y - expected[1]).abs() + (pose.yaw - expected[2]).abs()
 }
 
 /// Every violation in one trip.

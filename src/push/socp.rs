@@ -637,16 +637,19 @@ impl PushPlanner for Socp {
                     if !refined.solved() {
                         continue;
                     }
-                    if let Ok(fewer) = realise(
+                    let Ok(fewer) = realise(
                         axis,
                         order,
                         held,
                         refined.targets,
                         refined.centre_line,
                         false,
-                    ) && seconds(&fewer.0) < best - 1e-9
-                    {
-                        best = seconds(&fewer.0);
+                    ) else {
+                        continue;
+                    };
+                    let time = seconds(&fewer.0);
+                    if time < best - 1e-9 {
+                        best = time;
                         (pushes, targets, centre_line) = fewer;
                     }
                 }

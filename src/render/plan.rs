@@ -159,16 +159,38 @@ pub fn trip_svg(
         ));
     }
     let (scene, pushes) = stages.swap_remove(stage);
-    let fills: Vec<Option<String>> = scene
+    Ok(stage_svg(
+        trip,
+        k,
+        &scene,
+        pushes,
+        stage == last,
+        options,
+        title,
+    ))
+}
+
+/// One stage of trip `k` drawn on `table`: the objects it carried filled, its cluster, the pushes
+/// numbered `pushes` and, with `jaws`, the jaw plates.
+fn stage_svg(
+    trip: &Trip,
+    k: usize,
+    table: &Scene,
+    pushes: std::ops::Range<usize>,
+    jaws: bool,
+    options: &RenderOptions,
+    title: &str,
+) -> String {
+    let fills: Vec<Option<String>> = table
         .objects()
         .iter()
         .map(|o| trip.carried.contains(&o.id).then(|| light(trip_colour(k))))
         .collect();
-    let mut figure = Figure::new(&scene, options);
+    let mut figure = Figure::new(table, options);
     figure.objects(&fills);
-    draw_trip(figure.canvas(), trip, k, &scene, pushes, stage == last);
+    draw_trip(figure.canvas(), trip, k, table, pushes, jaws);
     figure.legend_entry("#202020", "jaw plates");
-    Ok(figure.finish(title))
+    figure.finish(title)
 }
 
 /// A self-contained HTML page to step through a run trip by trip (buttons or arrow keys), each frame
@@ -191,18 +213,20 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
             }
         );
         let stages = stages(trip)?;
-        for (stage, (_, pushes)) in stages.iter().enumerate() {
+        for (stage, (table, pushes)) in stages.iter().enumerate() {
             let look = match stage {
                 0 => String::new(),
                 _ => format!(", look {} after {} pushes", stage, pushes.start),
             };
-            let next = if stage + 1 == stages.len() {
+            let last = stage + 1 == stages.len();
+            let next = if last {
                 format!("{} pushes, then the grasp; {carried}", pushes.len())
             } else {
                 format!("{} pushes, then a new look", pushes.len())
             };
             let title = format!("trip {} of {}{look}: {next}", k + 1, plan.trips.len());
-            frames.push((title.clone(), trip_svg(trip, k, stage, options, &title)?));
+            let svg = stage_svg(trip, k, table, pushes.clone(), last, options, &title);
+            frames.push((title, svg));
         }
     }
     let mut html = String::from(
