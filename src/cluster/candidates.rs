@@ -18,7 +18,7 @@ use std::time::Instant;
 use nalgebra::Point2;
 
 use super::fits_jaws;
-use super::separability::SEPARATION_TOLERANCE;
+use super::separability::{SEPARATION_TOLERANCE, pairs_with_touching_boxes};
 use crate::geometry::are_separable;
 use crate::scene::Scene;
 
@@ -107,51 +107,23 @@ pub fn clashing_pairs(
         .iter()
         .map(|c| c.iter().map(|&i| scene.centroid(i)).collect())
         .collect();
-    let boxes: Vec<(Point2<f64>, Point2<f64>)> = points.iter().map(|p| bounds(p)).collect();
-    // Sweep along x: only boxes that overlap in x can clash.
-    let mut order: Vec<usize> = (0..candidates.len()).collect();
-    order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let mut pairs = Vec::new();
     let mut steps = 0usize;
-    for (k, &a) in order.iter().enumerate() {
-        for &b in &order[k + 1..] {
-            steps += 1;
-            if budget.exhausted(pairs.len(), steps) {
-                return None;
-            }
-            if boxes[b].0.x > boxes[a].1.x + 2.0 * SEPARATION_TOLERANCE {
-                break;
-            }
-            let (lo_a, hi_a) = boxes[a];
-            let (lo_b, hi_b) = boxes[b];
-            if lo_a.y > hi_b.y + 2.0 * SEPARATION_TOLERANCE
-                || lo_b.y > hi_a.y + 2.0 * SEPARATION_TOLERANCE
-            {
-                continue;
-            }
-            if candidates[a].iter().any(|m| candidates[b].contains(m)) {
-                continue;
-            }
-            if !are_separable(&points[a], &points[b], SEPARATION_TOLERANCE) {
-                pairs.push((a.min(b), a.max(b)));
-            }
+    let finished = pairs_with_touching_boxes(&points, |a, b| {
+        steps += 1;
+        if budget.exhausted(pairs.len(), steps) {
+            return false;
         }
+        if !candidates[a].iter().any(|m| candidates[b].contains(m))
+            && !are_separable(&points[a], &points[b], SEPARATION_TOLERANCE)
+        {
+            pairs.push((a.min(b), a.max(b)));
+        }
+        true
+    });
+    if !finished || pairs.len() > budget.max_items {
+        return None;
     }
     pairs.sort_unstable();
     Some(pairs)
-}
-
-fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
-    points.iter().fold(
-        (
-            Point2::new(f64::INFINITY, f64::INFINITY),
-            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| {
-            (
-                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        },
-    )
 }

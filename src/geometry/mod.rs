@@ -12,8 +12,11 @@
 //! - [`penetration_depth`], [`cast_distance`], [`contact_patch`]: exact separating-axis queries for
 //!   pushing and squeezing (`sat.rs`); [`contact_points`]: clipped contact points for the planar
 //!   closing simulation (`manifold.rs`).
+//! - [`Discs`]: bounding discs of many polygons, sorted along x, for the question "which objects can
+//!   reach this point" in `O(log N + k)` instead of a scan of every object.
 //! - [`simplify`]: a detailed outline reduced to few vertices, moving it by at most a stated tolerance.
 
+mod discs;
 mod grasp_diameter;
 mod manifold;
 mod polygon;
@@ -22,6 +25,7 @@ mod sat;
 mod separation;
 mod simplify;
 
+pub use discs::Discs;
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use manifold::{ContactPoint, contact_points};
 pub use polygon::{ConvexPolygon, PolygonError, cross};

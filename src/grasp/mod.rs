@@ -31,7 +31,9 @@ use crate::scene::{ObjectId, Scene};
 pub use jaws::JawPose;
 pub use model::{Body, GraspModel, Mechanics, Squeeze, caught_objects, squeeze, squeeze_bodies};
 pub use multi::{MultiObject, MultiObjectSettings, centre_line_offset};
-pub use outcome::{GraspOutcome, Judgement, ModelOutcome, Noise, noisy_copy, sample_seed};
+pub use outcome::{
+    GraspOutcome, Judgement, ModelOutcome, Noise, NoisyCopy, noisy_copy, sample_seed,
+};
 pub use single::{SingleObject, SingleObjectSettings};
 
 /// A planned grasp: where the jaws go and what the planner expects them to carry.

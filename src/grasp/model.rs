@@ -250,6 +250,26 @@ pub struct Body<'a> {
     pub mass: f64,
 }
 
+impl Squeeze {
+    /// The same verdict with every object index `i` replaced by `to(i)` (from positions in a list of
+    /// bodies to scene indices).
+    pub fn map_objects(self, to: impl Fn(usize) -> usize) -> Self {
+        match self {
+            Self::Held { objects, width } => Self::Held {
+                objects: objects.into_iter().map(&to).collect(),
+                width,
+            },
+            Self::PlateHits { object } => Self::PlateHits { object: to(object) },
+            Self::Straddles { object } => Self::Straddles { object: to(object) },
+            Self::NotARow { object } => Self::NotARow { object: to(object) },
+            Self::Slips { object } => Self::Slips { object: to(object) },
+            Self::Turns { object } => Self::Turns { object: to(object) },
+            Self::Empty => Self::Empty,
+            Self::TooHeavy => Self::TooHeavy,
+        }
+    }
+}
+
 impl GraspModel {
     /// The mass of an object: its own, or `density × area × height`.
     pub fn mass_of(&self, object: &crate::scene::Object) -> f64 {
@@ -261,13 +281,54 @@ impl GraspModel {
 
 /// Predicts what closing `jaws` does in `scene`; object indices in the answer are scene indices.
 pub fn squeeze(scene: &Scene, jaws: &JawPose, model: &GraspModel) -> Squeeze {
-    let bodies: Vec<Body<'_>> = (0..scene.len())
-        .map(|i| Body {
+    let (near, bodies) = nearby_bodies(
+        scene,
+        model,
+        &jaws.center,
+        squeeze_reach(jaws, scene.gripper()),
+    );
+    squeeze_bodies(&bodies, scene.gripper(), jaws, model).map_objects(|k| near[k])
+}
+
+/// How far from the jaw centre (beyond an object's own radius) a squeeze looks: an object further
+/// away is neither caught nor pushed by the closing ([`form_row`] looks at `opening/2 + plate
+/// length`, the planar closing [`NEIGHBOURHOOD`] further).
+pub(super) fn squeeze_reach(jaws: &JawPose, gripper: &crate::scene::Gripper) -> f64 {
+    jaws.opening / 2.0 + gripper.plate_length + NEIGHBOURHOOD
+}
+
+/// The objects of `scene` whose bounding discs come within `reach` of `point` (scene indices,
+/// ascending) and their bodies. A squeeze of these bodies equals one of the whole scene when
+/// `reach` is at least [`squeeze_reach`], with indices into the list.
+pub(super) fn nearby_bodies<'a>(
+    scene: &'a Scene,
+    model: &GraspModel,
+    point: &Point2<f64>,
+    reach: f64,
+) -> (Vec<usize>, Vec<Body<'a>>) {
+    let near = scene.near(point, reach);
+    let bodies = near
+        .iter()
+        .map(|&i| Body {
             outline: scene.world_polygon(i),
             mass: model.mass_of(&scene.objects()[i]),
         })
         .collect();
-    squeeze_bodies(&bodies, scene.gripper(), jaws, model)
+    (near, bodies)
+}
+
+/// [`row_of`] on `scene`, looking only at the objects within reach: scene indices.
+pub(super) fn row_in_scene(
+    scene: &Scene,
+    jaws: &JawPose,
+    model: &GraspModel,
+) -> std::result::Result<Vec<usize>, Squeeze> {
+    let reach = jaws.opening / 2.0 + scene.gripper().plate_length;
+    let (near, bodies) = nearby_bodies(scene, model, &jaws.center, reach);
+    match row_of(&bodies, scene.gripper(), jaws, model) {
+        Ok(caught) => Ok(caught.into_iter().map(|k| near[k]).collect()),
+        Err(refusal) => Err(refusal.map_objects(|k| near[k])),
+    }
 }
 
 /// Predicts what closing `jaws` does to `bodies` (which need not form a valid scene); object indices
@@ -548,12 +609,8 @@ pub fn caught_objects(scene: &Scene, jaws: &JawPose) -> Option<Vec<usize>> {
     let between = jaws.between(gripper);
     let reach = jaws.opening / 2.0 + gripper.plate_length;
     let mut caught = Vec::new();
-    for index in 0..scene.len() {
+    for index in scene.near(&jaws.center, reach) {
         let outline = scene.world_polygon(index);
-        let centroid = scene.centroid(index);
-        if nalgebra::distance(&centroid, &jaws.center) > reach + outline.radius_about(&centroid) {
-            continue;
-        }
         if plates.iter().any(|p| overlap(p, outline, 0.0)) {
             return None;
         }
@@ -568,17 +625,11 @@ pub fn caught_objects(scene: &Scene, jaws: &JawPose) -> Option<Vec<usize>> {
 pub(super) fn plate_clearance(scene: &Scene, jaws: &JawPose, held: &[usize], cap: f64) -> f64 {
     let plates = jaws.plates(scene.gripper());
     let mut clearance = cap;
-    for index in 0..scene.len() {
+    for index in scene.near(&jaws.center, jaws.opening / 2.0 + cap + 0.05) {
         if held.contains(&index) {
             continue;
         }
         let outline = scene.world_polygon(index);
-        let centroid = scene.centroid(index);
-        if nalgebra::distance(&centroid, &jaws.center)
-            > jaws.opening / 2.0 + cap + 0.05 + outline.radius_about(&centroid)
-        {
-            continue;
-        }
         for plate in &plates {
             clearance = clearance.min(distance(plate, outline));
         }

@@ -37,8 +37,8 @@ use std::time::Instant;
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, row_of, squeeze};
-use super::outcome::{GraspOutcome, ModelOutcome, Noise, scene_bodies};
+use super::model::{GraspModel, Squeeze, row_in_scene, squeeze};
+use super::outcome::{GraspOutcome, ModelOutcome, Noise};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull};
@@ -406,7 +406,6 @@ impl MultiObject {
         let indices = scene.indices_of(targets)?;
         let pushed = scene.indices_of(pushed)?;
         let settings = &self.settings;
-        let bodies = scene_bodies(scene, &settings.model);
         let mut refusals: BTreeMap<&'static str, usize> = BTreeMap::new();
         let mut screened: Vec<Screened> = Vec::new();
         let candidates = if indices.is_empty() {
@@ -419,7 +418,7 @@ impl MultiObject {
                 *refusals.entry("failed before").or_default() += 1;
                 continue;
             }
-            let caught = match row_of(&bodies, scene.gripper(), jaws, &settings.model) {
+            let caught = match row_in_scene(scene, jaws, &settings.model) {
                 Ok(caught) => caught,
                 Err(refusal) => {
                     *refusals.entry(refusal_name(&refusal)).or_default() += 1;
@@ -575,14 +574,8 @@ impl MultiObject {
         let plates = jaws.plates(scene.gripper());
         let mut nearest = CLEARANCE_CAP;
         let mut enough = true;
-        for index in 0..scene.len() {
+        for index in scene.near(&jaws.center, jaws.opening / 2.0 + CLEARANCE_CAP) {
             let outline = scene.world_polygon(index);
-            let centroid = scene.centroid(index);
-            if nalgebra::distance(&centroid, &jaws.center)
-                > jaws.opening / 2.0 + CLEARANCE_CAP + outline.radius_about(&centroid)
-            {
-                continue;
-            }
             let gap = plates
                 .iter()
                 .map(|p| crate::geometry::distance(p, outline))

@@ -17,7 +17,7 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use super::jaws::JawPose;
-use super::model::{Body, GraspModel, Squeeze, squeeze_bodies};
+use super::model::{Body, GraspModel, Squeeze, nearby_bodies, squeeze_bodies, squeeze_reach};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, overlap};
 use crate::random::SeededRng;
@@ -167,8 +167,14 @@ impl GraspOutcome for ModelOutcome {
         max_failures: usize,
     ) -> Judgement {
         let samples = self.samples.max(1);
-        let bodies = scene_bodies(scene, &self.model);
-        let nominal = squeeze_bodies(&bodies, scene.gripper(), jaws, &self.model);
+        let gripper = scene.gripper();
+        let (near, bodies) = nearby_bodies(
+            scene,
+            &self.model,
+            &jaws.center,
+            squeeze_reach(jaws, gripper),
+        );
+        let nominal = squeeze_bodies(&bodies, gripper, jaws, &self.model).map_objects(|k| near[k]);
         let Squeeze::Held { objects, .. } = &nominal else {
             return Judgement {
                 nominal,
@@ -185,18 +191,31 @@ impl GraspOutcome for ModelOutcome {
                 break;
             }
             judged += 1;
-            let (outlines, moved) = noisy_copy(scene, jaws, &self.noise, pushed, k);
-            let local: Vec<Body<'_>> = outlines
+            let copy = noisy_copy(scene, jaws, &self.noise, pushed, k);
+            // The moved objects, and every other object the moved jaws can reach: the jaws moved
+            // by `shift`, so those within `reach + shift` of the planned centre (and a hair for rounding).
+            let shift = nalgebra::distance(&copy.jaws.center, &jaws.center);
+            let mut local = scene.near(
+                &jaws.center,
+                squeeze_reach(&copy.jaws, gripper) + shift + 1e-9,
+            );
+            local.extend(&copy.objects);
+            local.sort_unstable();
+            local.dedup();
+            let bodies: Vec<Body<'_>> = local
                 .iter()
-                .zip(&bodies)
-                .map(|(outline, body)| Body {
-                    outline,
-                    mass: body.mass,
+                .map(|&i| Body {
+                    outline: copy
+                        .objects
+                        .binary_search(&i)
+                        .map_or(scene.world_polygon(i), |k| &copy.outlines[k]),
+                    mass: self.model.mass_of(&scene.objects()[i]),
                 })
                 .collect();
-            if let Squeeze::Held { mut objects, .. } =
-                squeeze_bodies(&local, scene.gripper(), &moved, &self.model)
+            if let Squeeze::Held { objects, .. } =
+                squeeze_bodies(&bodies, gripper, &copy.jaws, &self.model)
             {
+                let mut objects: Vec<usize> = objects.into_iter().map(|k| local[k]).collect();
                 objects.sort_unstable();
                 if objects == expected {
                     hits += 1;
@@ -212,16 +231,6 @@ impl GraspOutcome for ModelOutcome {
     }
 }
 
-/// The scene's objects as the model sees them.
-pub(super) fn scene_bodies<'a>(scene: &'a Scene, model: &GraspModel) -> Vec<Body<'a>> {
-    (0..scene.len())
-        .map(|i| Body {
-            outline: scene.world_polygon(i),
-            mass: model.mass_of(&scene.objects()[i]),
-        })
-        .collect()
-}
-
 /// A seed from a jaw pose and a sample number (SplitMix64 over the pose's bits).
 pub fn sample_seed(jaws: &JawPose, sample: usize) -> u64 {
     let mut state = jaws.center.x.to_bits()
@@ -234,30 +243,38 @@ pub fn sample_seed(jaws: &JawPose, sample: usize) -> u64 {
     state ^ (state >> 31)
 }
 
+/// One noisy sample of the table around a grasp ([`noisy_copy`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoisyCopy {
+    /// Scene indices, ascending, of the objects within reach of the jaws (the ones the noise moves;
+    /// every other object keeps its outline).
+    pub objects: Vec<usize>,
+    /// Their outlines in this sample, in the same order.
+    pub outlines: Vec<ConvexPolygon>,
+    /// The jaws moved by the actuation noise.
+    pub jaws: JawPose,
+}
+
 /// Sample `sample` of the noisy world around `jaws`: every object within reach moved by the
-/// perception noise, and the objects `pushed` (scene indices) by the push error too (a draw that would overlap another object is drawn again, up to five times, and
-/// the object stays put if none fits), and the jaws moved by the actuation noise. Objects out of
-/// reach keep their outlines.
+/// perception noise, and the objects `pushed` (scene indices) by the push error too (a draw that
+/// would overlap another object is drawn again, up to five times, and the object stays put if none
+/// fits), and the jaws moved by the actuation noise. Objects out of reach keep their outlines and
+/// are not listed.
 pub fn noisy_copy(
     scene: &Scene,
     jaws: &JawPose,
     noise: &Noise,
     pushed: &[usize],
     sample: usize,
-) -> (Vec<ConvexPolygon>, JawPose) {
+) -> NoisyCopy {
     let mut rng = SeededRng::new(sample_seed(jaws, sample));
     let reach = jaws.opening / 2.0 + scene.gripper().plate_length + 0.03;
-    let mut outlines: Vec<ConvexPolygon> = (0..scene.len())
-        .map(|i| scene.world_polygon(i).clone())
+    let near = scene.near(&jaws.center, reach);
+    let mut outlines: Vec<ConvexPolygon> = near
+        .iter()
+        .map(|&i| scene.world_polygon(i).clone())
         .collect();
-    let near: Vec<usize> = (0..scene.len())
-        .filter(|&i| {
-            let centroid = scene.centroid(i);
-            nalgebra::distance(&centroid, &jaws.center)
-                <= reach + scene.world_polygon(i).radius_about(&centroid)
-        })
-        .collect();
-    for &i in &near {
+    for (k, &i) in near.iter().enumerate() {
         let centroid = scene.centroid(i);
         let (position, yaw) = if pushed.contains(&i) {
             (
@@ -274,12 +291,13 @@ pub fn noisy_copy(
                 * Isometry2::new(shift, turn)
                 * Isometry2::translation(-centroid.x, -centroid.y);
             let candidate = scene.world_polygon(i).transformed(&about);
-            let clear = near
+            let clear = outlines
                 .iter()
-                .filter(|&&j| j != i)
-                .all(|&j| !overlap(&outlines[j], &candidate, crate::scene::OVERLAP_TOLERANCE));
+                .enumerate()
+                .filter(|&(j, _)| j != k)
+                .all(|(_, other)| !overlap(other, &candidate, crate::scene::OVERLAP_TOLERANCE));
             if clear {
-                outlines[i] = candidate;
+                outlines[k] = candidate;
                 break;
             }
         }
@@ -292,5 +310,9 @@ pub fn noisy_copy(
         angle: jaws.angle + noise.actuation_yaw * rng.normal(),
         opening: jaws.opening,
     };
-    (outlines, moved)
+    NoisyCopy {
+        objects: near,
+        outlines,
+        jaws: moved,
+    }
 }

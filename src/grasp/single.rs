@@ -10,8 +10,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, plate_clearance, row_of, squeeze};
-use super::outcome::scene_bodies;
+use super::model::{GraspModel, Squeeze, plate_clearance, row_in_scene, squeeze};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::Result;
 use crate::geometry::edge_grasps;
@@ -89,7 +88,6 @@ impl SingleObject {
         let gripper = scene.gripper();
         let object = &scene.objects()[index];
         let pose = object.pose.isometry();
-        let bodies = scene_bodies(scene, &self.settings.model);
         let mut last_reason = format!("object {} is wider than the jaw gap", object.id);
         // Cheap geometry first: jaws that catch this object alone, with their clearance.
         let mut candidates: Vec<(f64, f64, JawPose)> = Vec::new();
@@ -109,7 +107,7 @@ impl SingleObject {
                     opening,
                 };
                 *evaluated += 1;
-                match row_of(&bodies, gripper, &jaws, &self.settings.model) {
+                match row_in_scene(scene, &jaws, &self.settings.model) {
                     Ok(caught) if caught == [index] => {
                         let margin = plate_clearance(scene, &jaws, &caught, 0.05);
                         candidates.push((margin, candidate.diameter, jaws));

@@ -21,7 +21,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::geometry::{ConvexPolygon, GraspDiameter, min_grasp_diameter};
+use crate::geometry::{ConvexPolygon, Discs, GraspDiameter, min_grasp_diameter};
 
 pub use generator::{GeneratorSettings, MAX_OBJECTS, generate_scene};
 pub use gripper::Gripper;
@@ -56,6 +56,8 @@ pub struct Scene {
     objects: Vec<Object>,
     world: Vec<ConvexPolygon>,
     diameters: Vec<GraspDiameter>,
+    /// Bounding discs of `world`, for the objects near a point.
+    discs: Discs,
 }
 
 impl Scene {
@@ -95,6 +97,7 @@ impl Scene {
             workspace,
             gripper,
             objects,
+            discs: Discs::of(&world),
             world,
             diameters,
         })
@@ -119,6 +122,10 @@ impl Scene {
             objects: keep.iter().map(|&i| self.objects[i].clone()).collect(),
             world: keep.iter().map(|&i| self.world[i].clone()).collect(),
             diameters: keep.iter().map(|&i| self.diameters[i]).collect(),
+            discs: Discs::new(
+                keep.iter().map(|&i| self.discs.centre(i)).collect(),
+                keep.iter().map(|&i| self.discs.radius(i)).collect(),
+            ),
         }
     }
 
@@ -182,7 +189,19 @@ impl Scene {
 
     /// Area centroid of object `index` in the table frame, metres.
     pub fn centroid(&self, index: usize) -> Point2<f64> {
-        self.world[index].centroid()
+        self.discs.centre(index)
+    }
+
+    /// Largest distance of object `index`'s outline from its centroid, metres.
+    pub fn radius(&self, index: usize) -> f64 {
+        self.discs.radius(index)
+    }
+
+    /// Indices, ascending, of the objects that may come within `reach` of `point`: those whose
+    /// bounding disc about the centroid does (`|c − point| ≤ reach + radius`). Costs `O(log N + k)`
+    /// ([`Discs`]).
+    pub fn near(&self, point: &Point2<f64>, reach: f64) -> Vec<usize> {
+        self.discs.within(point, reach)
     }
 
     /// The narrowest stable grasp of object `index`, in the object's own frame.
