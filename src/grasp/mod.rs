@@ -17,6 +17,7 @@
 
 mod closing;
 mod jaws;
+mod memory;
 mod model;
 mod multi;
 mod outcome;

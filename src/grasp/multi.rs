@@ -166,11 +166,11 @@ impl Default for MultiObject {
     fn default() -> Self {
         let settings = MultiObjectSettings::default();
         Self {
-            outcome: Arc::new(ModelOutcome {
-                model: settings.model.clone(),
-                samples: settings.samples,
-                noise: settings.noise.clone(),
-            }),
+            outcome: Arc::new(ModelOutcome::new(
+                settings.model.clone(),
+                settings.samples,
+                settings.noise.clone(),
+            )),
             settings,
         }
     }
@@ -185,11 +185,11 @@ impl MultiObject {
     pub fn new(settings: MultiObjectSettings) -> Result<Self> {
         settings.validate()?;
         Ok(Self {
-            outcome: Arc::new(ModelOutcome {
-                model: settings.model.clone(),
-                samples: settings.samples,
-                noise: settings.noise.clone(),
-            }),
+            outcome: Arc::new(ModelOutcome::new(
+                settings.model.clone(),
+                settings.samples,
+                settings.noise.clone(),
+            )),
             settings,
         })
     }

@@ -17,7 +17,8 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use super::jaws::JawPose;
-use super::model::{Body, GraspModel, Squeeze, nearby_bodies, squeeze_bodies, squeeze_reach};
+use super::memory::Memory;
+use super::model::{Body, GraspModel, Squeeze, nearby_bodies, squeeze_reach};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, overlap};
 use crate::random::SeededRng;
@@ -139,15 +140,42 @@ pub trait GraspOutcome: Send + Sync + std::fmt::Debug {
     ) -> Judgement;
 }
 
-/// The grasp model, on the observed table and on noisy copies of it.
+/// The grasp model, on the observed table and on noisy copies of it. Closings it has judged are
+/// remembered by their exact inputs (`memory.rs`), so asking again costs nothing and answers the same.
 #[derive(Clone, Debug)]
 pub struct ModelOutcome {
+    model: GraspModel,
+    samples: usize,
+    noise: Noise,
+    memory: Memory,
+}
+
+impl ModelOutcome {
+    /// Judges with `model` on the observed table and `samples − 1` copies moved by `noise` (one
+    /// sample or none: the model's prediction alone).
+    pub fn new(model: GraspModel, samples: usize, noise: Noise) -> Self {
+        Self {
+            model,
+            samples,
+            noise,
+            memory: Memory::default(),
+        }
+    }
+
     /// The model.
-    pub model: GraspModel,
-    /// Samples per candidate, the observed table first (1: the model's prediction alone).
-    pub samples: usize,
-    /// The noise of the other samples.
-    pub noise: Noise,
+    pub fn model(&self) -> &GraspModel {
+        &self.model
+    }
+
+    /// Samples per candidate, the observed table first.
+    pub fn samples(&self) -> usize {
+        self.samples
+    }
+
+    /// The noise of the samples after the first.
+    pub fn noise(&self) -> &Noise {
+        &self.noise
+    }
 }
 
 impl GraspOutcome for ModelOutcome {
@@ -174,7 +202,10 @@ impl GraspOutcome for ModelOutcome {
             &jaws.center,
             squeeze_reach(jaws, gripper),
         );
-        let nominal = squeeze_bodies(&bodies, gripper, jaws, &self.model).map_objects(|k| near[k]);
+        let nominal = self
+            .memory
+            .squeeze(&bodies, gripper, jaws, &self.model)
+            .map_objects(|k| near[k]);
         let Squeeze::Held { objects, .. } = &nominal else {
             return Judgement {
                 nominal,
@@ -213,7 +244,8 @@ impl GraspOutcome for ModelOutcome {
                 })
                 .collect();
             if let Squeeze::Held { objects, .. } =
-                squeeze_bodies(&bodies, gripper, &copy.jaws, &self.model)
+                self.memory
+                    .squeeze(&bodies, gripper, &copy.jaws, &self.model)
             {
                 let mut objects: Vec<usize> = objects.into_iter().map(|k| local[k]).collect();
                 objects.sort_unstable();
