@@ -385,3 +385,93 @@ fn saved_instance_fewest_clusters_100_seed_2_is_proven_optimal() {
     assert!(outcome.value.len() <= taken.len());
     assert!(verify_clustering(&scene, &outcome.value).is_empty());
 }
+
+fn counter(outcome: &pushmog::outcome::Outcome<pushmog::cluster::Clustering>, name: &str) -> f64 {
+    outcome
+        .stats
+        .counters
+        .iter()
+        .find(|(k, _)| k == name)
+        .map_or(f64::NAN, |(_, v)| *v)
+}
+
+#[test]
+fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solve() {
+    let (mut steps, mut reused) = (0, 0);
+    for seed in 0..12u64 {
+        // Small tables against brute force, 34-object tables against a fresh solve.
+        let (mut scene, settings) = if seed < 6 {
+            let n = 7 + (seed as usize % 3);
+            let settings = MilpSettings {
+                max_cluster_size: n,
+                max_diameter: f64::INFINITY,
+                ..MilpSettings::default()
+            };
+            (small_scene(n, seed), settings)
+        } else {
+            let settings = GeneratorSettings::default();
+            let scene = generate_scene(&settings, &builtin_object_set(), seed).unwrap();
+            (scene, MilpSettings::default())
+        };
+        let milp = Milp::new(settings.clone()).unwrap();
+        let mut outcome = milp.cluster(&scene).unwrap();
+        // Carry away the largest cluster each time, as the closed loop does, until the table is clear.
+        while !scene.is_empty() {
+            let carried = outcome
+                .value
+                .clusters
+                .iter()
+                .max_by_key(|c| c.len())
+                .unwrap()
+                .clone();
+            scene = scene.without(&carried);
+            outcome = milp.cluster(&scene).unwrap();
+            let fresh = Milp::new(settings.clone())
+                .unwrap()
+                .cluster(&scene)
+                .unwrap();
+            assert_eq!(outcome.status, Status::Optimal, "seed {seed}");
+            let (found, best) = (
+                outcome.stats.objective.unwrap(),
+                fresh.stats.objective.unwrap(),
+            );
+            assert!(
+                (found - best).abs() <= 1e-9,
+                "seed {seed}: {found} against {best}"
+            );
+            if seed < 6 && !scene.is_empty() {
+                let exact = brute_force(&scene, ClusterObjective::Time, &settings);
+                assert!(
+                    (found - exact).abs() <= 1e-9,
+                    "seed {seed}: {found}, brute force {exact}"
+                );
+            }
+            assert!(verify_clustering(&scene, &outcome.value).is_empty());
+            steps += 1;
+            if counter(&outcome, "reused") == 1.0 {
+                reused += 1;
+                assert_eq!(counter(&outcome, "solves"), 0.0);
+            }
+        }
+    }
+    println!("{reused} of {steps} tables reused the previous optimum");
+    assert!(reused > steps / 3, "{reused} of {steps}");
+
+    // Nudging one object that stays on the table forbids the reuse.
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let milp = Milp::new(MilpSettings::default()).unwrap();
+    let first = milp.cluster(&scene).unwrap();
+    let carried = first.value.clusters[0].clone();
+    let rest = scene.without(&carried);
+    let mut objects = rest.objects().to_vec();
+    objects[0].pose.x += 1e-4;
+    let nudged = rest.with_objects(objects).unwrap();
+    let again = milp.cluster(&nudged).unwrap();
+    assert_eq!(counter(&again, "reused"), 0.0);
+    assert!(counter(&again, "solves") >= 1.0);
+    // Unchanged, it is reused.
+    let third = milp
+        .cluster(&nudged.without(&again.value.clusters[0]))
+        .unwrap();
+    assert_eq!(counter(&third, "reused"), 1.0);
+}

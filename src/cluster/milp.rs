@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
+use super::reuse::{self, LastOptimum};
 use super::separability::separability_conflicts;
 use super::{Clusterer, Clustering};
 use super::{admits_row, split_unrowable};
@@ -188,6 +189,8 @@ impl MilpSettings {
 #[derive(Clone, Debug, Default)]
 pub struct Milp {
     settings: MilpSettings,
+    /// The last proven optimum (time objective), reused while it provably stays optimal.
+    last: LastOptimum,
 }
 
 /// What one solver call returned.
@@ -220,7 +223,10 @@ impl Milp {
     /// [`Error::InvalidField`] when a setting is out of range or the backend is not compiled in.
     pub fn new(settings: MilpSettings) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings })
+        Ok(Self {
+            settings,
+            last: LastOptimum::default(),
+        })
     }
 
     /// The effective settings.
@@ -576,12 +582,32 @@ impl Clusterer for Milp {
                 &mut rounds,
             )
         };
-        let solved = match settings.objective {
-            ClusterObjective::Time => stage(&costs, settings.mip_gap, None, &warm),
-            ClusterObjective::FewestClusters if !settings.two_stage_fewest_clusters => {
+        // The previous optimum minus the carried clusters, when provably still optimal (`reuse.rs`).
+        let reused = match settings.objective {
+            ClusterObjective::Time => self.last.still_optimal(scene, &candidates, &costs),
+            ClusterObjective::FewestClusters => None,
+        };
+        let solved = match (reused.clone(), settings.objective) {
+            (Some(chosen), _) => {
+                let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
+                Solved {
+                    status: Status::Optimal,
+                    chosen,
+                    bound: Some(cost),
+                    gap: Some(0.0),
+                    nodes: Some(0),
+                    iterations: Some(0),
+                    backend_status: "the previous proven optimum without the carried clusters \
+                                     (still optimal: no candidate new or changed, none clashing \
+                                     with a carried cluster)"
+                        .to_string(),
+                }
+            }
+            (None, ClusterObjective::Time) => stage(&costs, settings.mip_gap, None, &warm),
+            (None, ClusterObjective::FewestClusters) if !settings.two_stage_fewest_clusters => {
                 stage(&costs, settings.mip_gap, None, &warm)
             }
-            ClusterObjective::FewestClusters => {
+            (None, ClusterObjective::FewestClusters) => {
                 // Stage 1: fewest clusters. The count is an integer, so a gap below one cluster
                 // proves it; stage 2: least spread among clusterings with that count.
                 let ones = vec![1.0; candidates.len()];
@@ -646,6 +672,11 @@ impl Clusterer for Milp {
         } else {
             (heuristic_clusters, heuristic_cost, true)
         };
+        let proven = settings.objective == ClusterObjective::Time
+            && solved.status == Status::Optimal
+            && !fell_back;
+        self.last
+            .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
         let clustering = Clustering {
             clusters: clusters
                 .iter()
@@ -659,6 +690,10 @@ impl Clusterer for Milp {
             ("variables".to_string(), candidates.len() as f64),
             ("constraints".to_string(), (scene.len() + clash_rows) as f64),
             ("solves".to_string(), rounds as f64),
+            (
+                "reused".to_string(),
+                if reused.is_some() { 1.0 } else { 0.0 },
+            ),
             ("heuristic_objective".to_string(), heuristic_cost),
             ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
             ("clusters".to_string(), clustering.len() as f64),

@@ -15,6 +15,7 @@ mod candidates;
 mod hierarchical;
 mod milp;
 mod objective;
+mod reuse;
 mod separability;
 mod split;
 

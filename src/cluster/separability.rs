@@ -69,6 +69,15 @@ pub(super) fn pairs_with_touching_boxes(
     true
 }
 
+/// Whether the bounding boxes of two point sets are more than `2 ·` [`SEPARATION_TOLERANCE`] apart
+/// along x or y (then an axis-parallel line separates the sets; [`pairs_with_touching_boxes`] skips
+/// exactly these pairs).
+pub(super) fn boxes_apart(first: &[Point2<f64>], second: &[Point2<f64>]) -> bool {
+    let gap = 2.0 * SEPARATION_TOLERANCE;
+    let ((lo_a, hi_a), (lo_b, hi_b)) = (bounds(first), bounds(second));
+    lo_a.x > hi_b.x + gap || lo_b.x > hi_a.x + gap || lo_a.y > hi_b.y + gap || lo_b.y > hi_a.y + gap
+}
+
 /// Smallest axis-parallel box around `points`: lower and upper corners.
 fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
     points.iter().fold(
