@@ -14,7 +14,9 @@
 //! adds HiGHS. The heuristic's clustering is passed as a warm start; when the solver stops without an
 //! answer as good as the heuristic's (time limit, failure) the heuristic's clustering is returned with
 //! the solver's status. After every solve the chosen clusters are checked geometrically; a clash the
-//! model missed would be added as a row and the model solved again.
+//! model missed would be added as a row and the model solved again. Under the time objective the last
+//! proven optimum is kept, and on the next table (the same one minus carried clusters) it is returned
+//! without a solve when provably still optimal (`reuse.rs`, `formulations/clustering.md`).
 
 use std::collections::HashSet;
 use std::time::Instant;
@@ -26,6 +28,7 @@ use good_lp::{Constraint, Expression, ProblemVariables, ResolutionError, Variabl
 use serde::{Deserialize, Serialize};
 
 use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
+use super::decompose;
 use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::reuse::{self, LastOptimum};
@@ -194,14 +197,15 @@ pub struct Milp {
 }
 
 /// What one solver call returned.
-struct Solved {
-    status: Status,
-    chosen: Vec<usize>,
-    bound: Option<f64>,
-    gap: Option<f64>,
-    nodes: Option<u64>,
-    iterations: Option<u64>,
-    backend_status: String,
+pub(super) struct Solved {
+    pub status: Status,
+    /// Positions of the chosen candidates, ascending.
+    pub chosen: Vec<usize>,
+    pub bound: Option<f64>,
+    pub gap: Option<f64>,
+    pub nodes: Option<u64>,
+    pub iterations: Option<u64>,
+    pub backend_status: String,
 }
 
 /// The model's data, independent of the backend.
@@ -285,6 +289,94 @@ impl Milp {
                 return solved;
             }
             clashes.extend(missed);
+        }
+    }
+
+    /// Solves one part under the configured objective (two stages for fewest clusters).
+    fn solve_part(
+        &self,
+        scene: &Scene,
+        part: &mut decompose::Part,
+        costs_model: &CostModel<'_>,
+        deadline: Instant,
+        rounds: &mut usize,
+    ) -> Solved {
+        let settings = &self.settings;
+        let decompose::Part {
+            candidates,
+            costs,
+            covering,
+            clashes,
+            warm,
+            ..
+        } = part;
+        let mut stage = |costs: &[f64], gap: f64, count: Option<usize>, warm: &[usize]| {
+            self.stage(
+                scene,
+                candidates,
+                covering,
+                clashes,
+                Model {
+                    costs,
+                    covering,
+                    clashes: &[],
+                    warm,
+                    count,
+                    mip_gap: gap,
+                    time_limit: 0.0,
+                },
+                deadline,
+                rounds,
+            )
+        };
+        match settings.objective {
+            ClusterObjective::Time => stage(costs, settings.mip_gap, None, warm),
+            ClusterObjective::FewestClusters if !settings.two_stage_fewest_clusters => {
+                stage(costs, settings.mip_gap, None, warm)
+            }
+            ClusterObjective::FewestClusters => {
+                // Stage 1: fewest clusters. The count is an integer, so a gap below one cluster
+                // proves it; stage 2: least spread among clusterings with that count.
+                let ones = vec![1.0; candidates.len()];
+                let proof_gap = settings.mip_gap.max(0.99 / warm.len().max(1) as f64);
+                let first = stage(&ones, proof_gap, None, warm);
+                if first.chosen.is_empty() {
+                    return first;
+                }
+                let count = first.chosen.len();
+                let count_proven = first.status == Status::Optimal
+                    || first
+                        .bound
+                        .is_some_and(|b| (b - 1e-6).ceil() >= count as f64);
+                let spreads: Vec<f64> = candidates.iter().map(|c| spread(scene, c)).collect();
+                let second = stage(&spreads, settings.mip_gap, Some(count), &first.chosen);
+                let epsilon = costs_model.epsilon();
+                let status = match (&second.status, count_proven) {
+                    (Status::Optimal, true) => Status::Optimal,
+                    (Status::Optimal | Status::Feasible, _) => Status::Feasible,
+                    (other, _) => other.clone(),
+                };
+                let chosen = if second.chosen.is_empty() {
+                    first.chosen
+                } else {
+                    second.chosen
+                };
+                Solved {
+                    status,
+                    chosen,
+                    bound: match (count_proven, second.bound) {
+                        (true, Some(b)) => Some(count as f64 + epsilon * b),
+                        _ => first.bound,
+                    },
+                    gap: second.gap,
+                    nodes: first.nodes.zip(second.nodes).map(|(a, b)| a + b),
+                    iterations: first.iterations.zip(second.iterations).map(|(a, b)| a + b),
+                    backend_status: format!(
+                        "{}; then {}",
+                        first.backend_status, second.backend_status
+                    ),
+                }
+            }
         }
     }
 
@@ -545,7 +637,7 @@ impl Clusterer for Milp {
                 covering[o].push(k);
             }
         }
-        let Some(mut clashes) = clashing_pairs(
+        let Some(clashes) = clashing_pairs(
             scene,
             &candidates,
             Budget {
@@ -563,32 +655,14 @@ impl Clusterer for Milp {
         let clash_rows = clashes.len();
 
         let mut rounds = 0;
-        let mut stage = |costs: &[f64], gap: f64, count: Option<usize>, warm: &[usize]| {
-            self.stage(
-                scene,
-                &candidates,
-                &covering,
-                &mut clashes,
-                Model {
-                    costs,
-                    covering: &covering,
-                    clashes: &[],
-                    warm,
-                    count,
-                    mip_gap: gap,
-                    time_limit: 0.0,
-                },
-                deadline,
-                &mut rounds,
-            )
-        };
         // The previous optimum minus the carried clusters, when provably still optimal (`reuse.rs`).
         let reused = match settings.objective {
             ClusterObjective::Time => self.last.still_optimal(scene, &candidates, &costs),
             ClusterObjective::FewestClusters => None,
         };
-        let solved = match (reused.clone(), settings.objective) {
-            (Some(chosen), _) => {
+        let mut parts = 0;
+        let solved = match reused.clone() {
+            Some(chosen) => {
                 let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
                 Solved {
                     status: Status::Optimal,
@@ -603,55 +677,21 @@ impl Clusterer for Milp {
                         .to_string(),
                 }
             }
-            (None, ClusterObjective::Time) => stage(&costs, settings.mip_gap, None, &warm),
-            (None, ClusterObjective::FewestClusters) if !settings.two_stage_fewest_clusters => {
-                stage(&costs, settings.mip_gap, None, &warm)
-            }
-            (None, ClusterObjective::FewestClusters) => {
-                // Stage 1: fewest clusters. The count is an integer, so a gap below one cluster
-                // proves it; stage 2: least spread among clusterings with that count.
-                let ones = vec![1.0; candidates.len()];
-                let proof_gap = settings
-                    .mip_gap
-                    .max(0.99 / heuristic_clusters.len().max(1) as f64);
-                let first = stage(&ones, proof_gap, None, &warm);
-                if first.chosen.is_empty() {
-                    first
-                } else {
-                    let count = first.chosen.len();
-                    let count_proven = first.status == Status::Optimal
-                        || first
-                            .bound
-                            .is_some_and(|b| (b - 1e-6).ceil() >= count as f64);
-                    let spreads: Vec<f64> = candidates.iter().map(|c| spread(scene, c)).collect();
-                    let second = stage(&spreads, settings.mip_gap, Some(count), &first.chosen);
-                    let epsilon = costs_model.epsilon();
-                    let status = match (&second.status, count_proven) {
-                        (Status::Optimal, true) => Status::Optimal,
-                        (Status::Optimal | Status::Feasible, _) => Status::Feasible,
-                        (other, _) => other.clone(),
+            None => {
+                // Independent parts are solved one by one (`decompose.rs`).
+                let mut solved_parts = Vec::new();
+                for mut part in decompose::parts(scene.len(), &candidates, &costs, &clashes, &warm)
+                {
+                    parts += 1;
+                    let answer = match part.trivial() {
+                        Some(answer) => answer,
+                        None => {
+                            self.solve_part(scene, &mut part, &costs_model, deadline, &mut rounds)
+                        }
                     };
-                    let chosen = if second.chosen.is_empty() {
-                        first.chosen
-                    } else {
-                        second.chosen
-                    };
-                    Solved {
-                        status,
-                        chosen,
-                        bound: match (count_proven, second.bound) {
-                            (true, Some(b)) => Some(count as f64 + epsilon * b),
-                            _ => first.bound,
-                        },
-                        gap: second.gap,
-                        nodes: first.nodes.zip(second.nodes).map(|(a, b)| a + b),
-                        iterations: first.iterations.zip(second.iterations).map(|(a, b)| a + b),
-                        backend_status: format!(
-                            "{}; then {}",
-                            first.backend_status, second.backend_status
-                        ),
-                    }
+                    solved_parts.push((part, answer));
                 }
+                decompose::merge(solved_parts)
             }
         };
 
@@ -694,6 +734,7 @@ impl Clusterer for Milp {
                 "reused".to_string(),
                 if reused.is_some() { 1.0 } else { 0.0 },
             ),
+            ("parts".to_string(), parts as f64),
             ("heuristic_objective".to_string(), heuristic_cost),
             ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
             ("clusters".to_string(), clustering.len() as f64),

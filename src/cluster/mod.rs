@@ -12,6 +12,7 @@
 //! `formulations/clustering.md`, with the objectives of [`CostModel`]).
 
 mod candidates;
+mod decompose;
 mod hierarchical;
 mod milp;
 mod objective;

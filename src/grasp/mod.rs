@@ -8,6 +8,10 @@
 //!   without turning, Nguyen's condition object by object).
 //! - [`GraspOutcome`]: how a planner judges candidates: the model on the observed table, on noisy
 //!   copies of it ([`ModelOutcome`], robust), or a rollout in the simulator (`exec::Rollout`).
+//!   `ModelOutcome` remembers the closings it has judged by their exact inputs (`memory.rs`).
+//! - Locality: a closing involves only the objects within reach of the jaws (`opening/2 + plate
+//!   length + 2 cm`, beyond each object's own radius), found through the scene's sorted bounding discs
+//!   ([`Scene::near`]), so judging a candidate costs the same on a table of 34 or 1000 objects.
 //! - [`SingleObject`]: a stable frictional two-jaw grasp of one object, jaws clear of neighbours.
 //! - [`MultiObject`]: an analytic stand-in for MOG-Net: candidates screened for clearance and a row,
 //!   judged by the outcome model, ranked by the estimated probability that every object is carried.
