@@ -145,6 +145,10 @@ struct Contact {
     friction: f64,
     normal_impulse: f64,
     tangent_impulse: f64,
+    /// Inverse effective masses along the normal and the tangent (fixed within a step, while
+    /// nothing moves).
+    normal_mass: f64,
+    tangent_mass: f64,
 }
 
 /// The state of a closing: pieces, plates and the physical constants.
@@ -231,6 +235,8 @@ impl World {
                     friction,
                     normal_impulse: 0.0,
                     tangent_impulse: 0.0,
+                    normal_mass: 0.0,
+                    tangent_mass: 0.0,
                 });
             }
         };
@@ -282,8 +288,7 @@ impl World {
     fn solve_contact(&mut self, contact: &mut Contact) {
         let (a, b, point, normal) = (contact.a, contact.b, contact.point, contact.normal);
         let relative = self.velocity_at(b, &point) - self.velocity_at(a, &point);
-        let normal_mass =
-            self.inverse_mass(a, &point, &normal) + self.inverse_mass(b, &point, &normal);
+        let normal_mass = contact.normal_mass;
         let target = if contact.separation > 0.0 {
             -contact.separation / TIME_STEP
         } else {
@@ -298,8 +303,7 @@ impl World {
         // Friction along the tangent, within the cone of the normal impulse.
         let tangent = Vector2::new(-normal.y, normal.x);
         let relative = self.velocity_at(b, &point) - self.velocity_at(a, &point);
-        let tangent_mass =
-            self.inverse_mass(a, &point, &tangent) + self.inverse_mass(b, &point, &tangent);
+        let tangent_mass = contact.tangent_mass;
         let bound = contact.friction * contact.normal_impulse;
         let accumulated =
             (contact.tangent_impulse - relative.dot(&tangent) / tangent_mass).clamp(-bound, bound);
@@ -329,6 +333,14 @@ impl World {
                 self.apply(a, &point, -impulse);
                 self.apply(b, &point, impulse);
             }
+        }
+        for contact in &mut contacts {
+            let (a, b, point, normal) = (contact.a, contact.b, contact.point, contact.normal);
+            let tangent = Vector2::new(-normal.y, normal.x);
+            contact.normal_mass =
+                self.inverse_mass(a, &point, &normal) + self.inverse_mass(b, &point, &normal);
+            contact.tangent_mass =
+                self.inverse_mass(a, &point, &tangent) + self.inverse_mass(b, &point, &tangent);
         }
         for p in &mut self.pieces {
             p.table = (Vector2::zeros(), 0.0);
