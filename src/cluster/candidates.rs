@@ -63,13 +63,17 @@ pub fn compact_candidates_where(
 ) -> Option<Vec<Vec<usize>>> {
     let n = scene.len();
     let centroids: Vec<Point2<f64>> = (0..n).map(|i| scene.centroid(i)).collect();
-    let near: Vec<Vec<bool>> = (0..n)
+    // Each object's neighbours within `max_diameter` (ascending), through the scene's discs.
+    let near: Vec<Vec<usize>> = (0..n)
         .map(|i| {
-            (0..n)
-                .map(|j| nalgebra::distance(&centroids[i], &centroids[j]) <= max_diameter)
+            scene
+                .near(&centroids[i], max_diameter)
+                .into_iter()
+                .filter(|&j| nalgebra::distance(&centroids[i], &centroids[j]) <= max_diameter)
                 .collect()
         })
         .collect();
+    let is_near = |m: usize, j: usize| near[m].binary_search(&j).is_ok();
     let mut found = Vec::new();
     let mut stack: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
     stack.reverse();
@@ -81,8 +85,10 @@ pub fn compact_candidates_where(
         }
         let last = set[set.len() - 1];
         if set.len() < max_size {
-            for j in (last + 1..n).rev() {
-                if set.iter().all(|&m| near[m][j]) {
+            // Every member's neighbour is the first member's neighbour.
+            let after = near[set[0]].partition_point(|&j| j <= last);
+            for &j in near[set[0]][after..].iter().rev() {
+                if set.iter().all(|&m| is_near(m, j)) {
                     let mut grown = set.clone();
                     grown.push(j);
                     if fits_jaws(scene, &grown) && accept(&grown) {

@@ -88,7 +88,8 @@ impl Scene {
         workspace.validate()?;
         gripper.validate()?;
         let world: Vec<ConvexPolygon> = objects.iter().map(Object::world_polygon).collect();
-        validation::check_objects(&workspace, &objects, &world)?;
+        let discs = Discs::of(&world);
+        validation::check_objects(&workspace, &objects, &world, &discs)?;
         let diameters = objects
             .iter()
             .map(|o| min_grasp_diameter(&o.polygon))
@@ -97,7 +98,7 @@ impl Scene {
             workspace,
             gripper,
             objects,
-            discs: Discs::of(&world),
+            discs,
             world,
             diameters,
         })

@@ -9,8 +9,8 @@ use super::object::{Object, ObjectSpec};
 use super::workspace::{MAX_COORDINATE, Workspace};
 use crate::error::{Error, Result};
 use crate::geometry::{
-    ConvexPolygon, SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, min_grasp_diameter, penetration_depth,
-    simplify,
+    ConvexPolygon, Discs, SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, min_grasp_diameter,
+    penetration_depth, simplify,
 };
 
 /// Largest interpenetration of two objects still accepted as touching, metres (1 µm). Objects pushed
@@ -76,6 +76,7 @@ pub(super) fn check_objects(
     workspace: &Workspace,
     objects: &[Object],
     world: &[ConvexPolygon],
+    discs: &Discs,
 ) -> Result<()> {
     for (index, object) in objects.iter().enumerate() {
         check_fields(index, object)?;
@@ -95,7 +96,7 @@ pub(super) fn check_objects(
         check_scale(workspace, index, object)?;
         check_inside(workspace, index, object, outline)?;
     }
-    check_overlaps(objects, world)
+    check_overlaps(objects, world, discs)
 }
 
 fn invalid(index: usize, object: &Object, field: &'static str, reason: String) -> Error {
@@ -196,19 +197,11 @@ fn check_inside(
     Ok(())
 }
 
-fn check_overlaps(objects: &[Object], world: &[ConvexPolygon]) -> Result<()> {
-    let circles: Vec<(Point2<f64>, f64)> = world
-        .iter()
-        .map(|outline| {
-            let center = outline.centroid();
-            (center, outline.radius_about(&center))
-        })
-        .collect();
+fn check_overlaps(objects: &[Object], world: &[ConvexPolygon], discs: &Discs) -> Result<()> {
+    // Only objects whose bounding discs meet can overlap.
     for i in 0..objects.len() {
-        for j in i + 1..objects.len() {
-            let (ci, ri) = circles[i];
-            let (cj, rj) = circles[j];
-            if (ci - cj).norm() > ri + rj {
+        for j in discs.within(&discs.centre(i), discs.radius(i)) {
+            if j <= i {
                 continue;
             }
             let depth = penetration_depth(&world[i], &world[j]);
