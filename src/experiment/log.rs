@@ -53,6 +53,10 @@ pub struct RowTiming {
     pub clustering_median: f64,
     /// Wall-clock time of the whole run (planning and execution).
     pub wall: f64,
+    /// CPU time of the whole run on its worker thread (scene, planning, execution), seconds; 0 in
+    /// logs written before it was recorded, or where the platform has no thread clock.
+    #[serde(default)]
+    pub cpu: f64,
 }
 
 /// One run's figures.

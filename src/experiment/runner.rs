@@ -49,6 +49,7 @@ pub fn run_one(
     spec: &RunSpec,
 ) -> Result<(LogRow, Plan)> {
     let started = Instant::now();
+    let cpu_started = cpu_time::ThreadTime::try_now().ok();
     let scene = generate_scene(&config.generator(spec.objects), set, spec.scene_seed)?;
     let settings = config.policy_settings(spec.policy, spec.bin_distance);
     let bin_distance = settings.time_model.bin_distance;
@@ -92,6 +93,9 @@ pub fn run_one(
             planning_p95: quantile(&timing.planning, 0.95),
             clustering_median: quantile(&timing.clustering, 0.5),
             wall: started.elapsed().as_secs_f64(),
+            cpu: cpu_started
+                .and_then(|t| t.try_elapsed().ok())
+                .map_or(0.0, |d| d.as_secs_f64()),
         },
     };
     Ok((row, plan))

@@ -53,6 +53,8 @@ pub struct GroupSummary {
     pub planning_p95: f64,
     /// Median over runs of the median clustering time, seconds (wall-clock).
     pub clustering_median: f64,
+    /// Median over runs of a run's CPU time, seconds.
+    pub cpu_median: f64,
 }
 
 /// The bits of a row's swept friction, for grouping (`u64::MAX` when not swept).
@@ -108,6 +110,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
             let medians: Vec<f64> = rows.iter().map(|r| r.timing.planning_median).collect();
             let p95s: Vec<f64> = rows.iter().map(|r| r.timing.planning_p95).collect();
             let clustering: Vec<f64> = rows.iter().map(|r| r.timing.clustering_median).collect();
+            let cpu: Vec<f64> = rows.iter().map(|r| r.timing.cpu).collect();
             GroupSummary {
                 policy: label,
                 objects,
@@ -126,6 +129,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                 planning_median: quantile(&medians, 0.5),
                 planning_p95: quantile(&p95s, 0.95),
                 clustering_median: quantile(&clustering, 0.5),
+                cpu_median: quantile(&cpu, 0.5),
             }
         })
         .collect()
@@ -261,10 +265,12 @@ pub fn timing_markdown(log: &Log) -> String {
     );
     out.push_str("| policy | objects | bin distance (m) |");
     out.push_str(if by_friction { " friction |" } else { "" });
-    out.push_str(" planning median (ms) | planning p95 (ms) | clustering median (ms) |\n");
+    out.push_str(
+        " planning median (ms) | planning p95 (ms) | clustering median (ms) | CPU per run, median (s) |\n",
+    );
     out.push_str("|---|---:|---:|");
     out.push_str(if by_friction { "---:|" } else { "" });
-    out.push_str("---:|---:|---:|\n");
+    out.push_str("---:|---:|---:|---:|\n");
     for g in &groups {
         let friction = match (by_friction, g.friction) {
             (false, _) => String::new(),
@@ -272,13 +278,14 @@ pub fn timing_markdown(log: &Log) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} |",
+            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} | {:.2} |",
             g.policy,
             g.objects,
             g.bin_distance,
             g.planning_median * 1e3,
             g.planning_p95 * 1e3,
-            g.clustering_median * 1e3
+            g.clustering_median * 1e3,
+            g.cpu_median
         );
     }
     out
@@ -319,19 +326,20 @@ pub fn results_csv(log: &Log) -> String {
 /// The wall-clock figures as CSV.
 pub fn timing_csv(log: &Log) -> String {
     let mut out = String::from(
-        "policy,objects,bin_distance,friction,planning_median,planning_p95,clustering_median\n",
+        "policy,objects,bin_distance,friction,planning_median,planning_p95,clustering_median,cpu_median\n",
     );
     for g in summarise(log) {
         let _ = writeln!(
             out,
-            "{},{},{},{},{:.9},{:.9},{:.9}",
+            "{},{},{},{},{:.9},{:.9},{:.9},{:.6}",
             g.policy,
             g.objects,
             g.bin_distance,
             g.friction.map_or(String::new(), |f| f.to_string()),
             g.planning_median,
             g.planning_p95,
-            g.clustering_median
+            g.clustering_median,
+            g.cpu_median
         );
     }
     out
