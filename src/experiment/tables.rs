@@ -278,17 +278,26 @@ pub fn timing_markdown(log: &Log) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} | {:.2} |",
+            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} | {} |",
             g.policy,
             g.objects,
             g.bin_distance,
             g.planning_median * 1e3,
             g.planning_p95 * 1e3,
             g.clustering_median * 1e3,
-            g.cpu_median
+            cpu_text(g.cpu_median)
         );
     }
     out
+}
+
+/// A CPU time in seconds, or `–` when the log did not record it (0).
+fn cpu_text(seconds: f64) -> String {
+    if seconds > 0.0 {
+        format!("{seconds:.2}")
+    } else {
+        "–".to_string()
+    }
 }
 
 /// The results as CSV (one line per group; no wall-clock columns).
@@ -331,7 +340,7 @@ pub fn timing_csv(log: &Log) -> String {
     for g in summarise(log) {
         let _ = writeln!(
             out,
-            "{},{},{},{},{:.9},{:.9},{:.9},{:.6}",
+            "{},{},{},{},{:.9},{:.9},{:.9},{}",
             g.policy,
             g.objects,
             g.bin_distance,
@@ -339,7 +348,11 @@ pub fn timing_csv(log: &Log) -> String {
             g.planning_median,
             g.planning_p95,
             g.clustering_median,
-            g.cpu_median
+            if g.cpu_median > 0.0 {
+                format!("{:.6}", g.cpu_median)
+            } else {
+                String::new()
+            }
         );
     }
     out
