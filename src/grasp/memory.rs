@@ -1,4 +1,5 @@
-//! Closings already judged, remembered by their exact inputs.
+//! Closings already judged, remembered by their exact inputs (the robust judge's, and the SOCP's
+//! perfect rows).
 //!
 //! A squeeze ([`squeeze_bodies`]) is a pure function of the bodies it is given (outlines and
 //! masses), the gripper, the jaw pose and the grasp model. [`ModelOutcome`](super::ModelOutcome)
@@ -21,7 +22,7 @@ pub const CAPACITY: usize = 4096;
 
 /// Remembered squeezes of one grasp model.
 #[derive(Debug, Default)]
-pub(super) struct Memory {
+pub(crate) struct Memory {
     answers: Mutex<HashMap<Vec<u64>, Squeeze>>,
 }
 

@@ -34,6 +34,7 @@ use crate::outcome::Outcome;
 use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;
+pub(crate) use memory::Memory;
 pub use model::{Body, GraspModel, Mechanics, Squeeze, caught_objects, squeeze, squeeze_bodies};
 pub use multi::{MultiObject, MultiObjectSettings, centre_line_offset};
 pub use outcome::{

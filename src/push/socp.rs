@@ -39,7 +39,7 @@ use super::row::{Fence, RowProblem, RowSolution, lower_bound, solve_row};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
-use crate::grasp::{Body, GraspModel, JawPose, Squeeze, squeeze, squeeze_bodies};
+use crate::grasp::{Body, GraspModel, JawPose, Memory, Squeeze, squeeze};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
 use crate::time_model::TimeModel;
@@ -158,6 +158,9 @@ impl SocpSettings {
 #[derive(Clone, Debug, Default)]
 pub struct Socp {
     settings: SocpSettings,
+    /// Closings of perfect rows already judged (`grasp/memory.rs`): the same cluster is planned
+    /// again on later trips.
+    memory: Memory,
 }
 
 /// A solved row turned into pushes.
@@ -176,7 +179,10 @@ impl Socp {
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn new(settings: SocpSettings) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings })
+        Ok(Self {
+            settings,
+            memory: Memory::default(),
+        })
     }
 
     /// The effective settings.
@@ -309,7 +315,7 @@ impl Socp {
             })
             .collect();
         matches!(
-            squeeze_bodies(&bodies, gripper, &jaws, &self.settings.model),
+            self.memory.squeeze(&bodies, gripper, &jaws, &self.settings.model),
             Squeeze::Held { objects, .. } if objects.len() == order.len()
         )
     }
