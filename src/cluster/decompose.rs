@@ -156,12 +156,14 @@ fn weakness(status: &Status) -> u8 {
     }
 }
 
-/// The whole model's answer from its parts' (chosen positions in the whole model). A part whose
-/// solve chose nothing keeps its warm start. With one part, that part's answer unchanged; with none
-/// (an empty table), the empty clustering.
-pub(super) fn merge(solved: Vec<(Part, Solved)>) -> Solved {
+/// The whole model's answer from its parts' (chosen positions in the whole model), and how many
+/// parts fell back to their warm start. With one part, that part's answer unchanged (an empty choice
+/// stays empty, and the caller falls back as a whole); with several, a part whose solve chose nothing
+/// keeps its warm start (the heuristic's clusters there); with none (an empty table), the empty
+/// clustering.
+pub(super) fn merge(solved: Vec<(Part, Solved)>) -> (Solved, usize) {
     if solved.is_empty() {
-        return Solved {
+        let empty = Solved {
             status: Status::Optimal,
             chosen: Vec::new(),
             bound: Some(0.0),
@@ -170,14 +172,12 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> Solved {
             iterations: Some(0),
             backend_status: "empty scene".to_string(),
         };
+        return (empty, 0);
     }
     if solved.len() == 1 {
         let (part, mut answer) = solved.into_iter().next().expect("one part");
-        if answer.chosen.is_empty() {
-            answer.chosen.clone_from(&part.warm);
-        }
         answer.chosen = answer.chosen.iter().map(|&k| part.global[k]).collect();
-        return answer;
+        return (answer, 0);
     }
     let count = solved.len();
     let proven = solved
@@ -201,8 +201,10 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> Solved {
         .map(|(_, s)| s.iterations)
         .sum::<Option<u64>>();
     let mut chosen: Vec<usize> = Vec::new();
+    let mut fell_back = 0;
     for (part, answer) in &solved {
         let local = if answer.chosen.is_empty() {
+            fell_back += 1;
             &part.warm
         } else {
             &answer.chosen
@@ -211,7 +213,7 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> Solved {
     }
     chosen.sort_unstable();
     let (status, weakest_backend) = weakest.expect("at least two parts");
-    Solved {
+    let merged = Solved {
         backend_status: if status == Status::Optimal {
             format!("{count} independent parts, each proven optimal")
         } else {
@@ -225,5 +227,6 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> Solved {
         gap,
         nodes,
         iterations,
-    }
+    };
+    (merged, fell_back)
 }

@@ -661,10 +661,10 @@ impl Clusterer for Milp {
             ClusterObjective::FewestClusters => None,
         };
         let mut parts = 0;
-        let solved = match reused.clone() {
+        let (solved, parts_fell_back) = match reused.clone() {
             Some(chosen) => {
                 let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
-                Solved {
+                let solved = Solved {
                     status: Status::Optimal,
                     chosen,
                     bound: Some(cost),
@@ -675,7 +675,8 @@ impl Clusterer for Milp {
                                      (still optimal: no candidate new or changed, none clashing \
                                      with a carried cluster)"
                         .to_string(),
-                }
+                };
+                (solved, 0)
             }
             None => {
                 // Independent parts are solved one by one (`decompose.rs`).
@@ -708,7 +709,7 @@ impl Clusterer for Milp {
         let usable = is_partition && separability_conflicts(scene, &picked).is_empty();
         let solver_cost = costs_model.clustering_cost(&picked);
         let (clusters, objective, fell_back) = if usable && solver_cost <= heuristic_cost + 1e-9 {
-            (picked, solver_cost, false)
+            (picked, solver_cost, parts_fell_back > 0)
         } else {
             (heuristic_clusters, heuristic_cost, true)
         };
@@ -735,6 +736,7 @@ impl Clusterer for Milp {
                 if reused.is_some() { 1.0 } else { 0.0 },
             ),
             ("parts".to_string(), parts as f64),
+            ("parts_fell_back".to_string(), parts_fell_back as f64),
             ("heuristic_objective".to_string(), heuristic_cost),
             ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
             ("clusters".to_string(), clustering.len() as f64),

@@ -94,11 +94,12 @@ impl Previous {
             }
             position.insert(key, k);
         }
-        // 2. The kept clusters are candidates now.
-        let chosen: Vec<usize> = kept
+        // 2. The kept clusters are candidates now (positions ascending, as a solve returns them).
+        let mut chosen: Vec<usize> = kept
             .iter()
             .map(|c| position.get(*c).copied())
             .collect::<Option<_>>()?;
+        chosen.sort_unstable();
         // 3. No carried cluster clashes with a candidate (the model's own clash test).
         for cluster in &carried {
             let gone: Vec<Point2<f64>> = cluster
