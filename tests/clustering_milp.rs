@@ -543,3 +543,32 @@ fn a_1000_object_table_is_proven_optimal_part_by_part() {
     assert!(outcome.stats.objective.unwrap() <= counter(&outcome, "heuristic_objective"));
     assert!(verify_clustering(&scene, &outcome.value).is_empty());
 }
+
+#[test]
+fn the_verifier_names_every_pair_of_interleaved_clusters_and_only_those() {
+    // A cross: {0, 1} left and right, {2, 3} above and below, so no line splits them; {4, 5} far
+    // to the right and {6} far above are separable from everything.
+    let scene = square_scene(
+        0.01,
+        &[
+            (0.10, 0.20),
+            (0.16, 0.20),
+            (0.13, 0.17),
+            (0.13, 0.23),
+            (0.40, 0.20),
+            (0.42, 0.20),
+            (0.13, 0.35),
+        ],
+    );
+    let ids = |k: &[u32]| k.iter().map(|&i| ObjectId(i)).collect::<Vec<_>>();
+    let clustering = pushmog::cluster::Clustering {
+        clusters: vec![ids(&[0, 1]), ids(&[2, 3]), ids(&[4, 5]), ids(&[6])],
+    };
+    let found = verify_clustering(&scene, &clustering);
+    let separability: Vec<&String> = found.iter().filter(|f| f.contains("separable")).collect();
+    assert_eq!(
+        separability,
+        vec!["clusters 0 and 1 are not separable by a line"],
+        "{found:?}"
+    );
+}

@@ -351,12 +351,45 @@ pub fn verify_clustering(scene: &Scene, clustering: &Clustering) -> Vec<String> 
         .iter()
         .map(|m| m.iter().map(|&i| scene.centroid(i)).collect())
         .collect();
-    for a in 0..centroids.len() {
-        for b in a + 1..centroids.len() {
+    // Clusters whose centroid boxes lie more than twice the tolerance apart along x or y are split
+    // by an axis-parallel line; only the others need the exact test (a sweep along x).
+    let boxes: Vec<(Point2<f64>, Point2<f64>)> = centroids
+        .iter()
+        .map(|points| {
+            let lo = points
+                .iter()
+                .fold(Point2::new(f64::INFINITY, f64::INFINITY), |b, p| {
+                    Point2::new(b.x.min(p.x), b.y.min(p.y))
+                });
+            let hi = points
+                .iter()
+                .fold(Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |b, p| {
+                    Point2::new(b.x.max(p.x), b.y.max(p.y))
+                });
+            (lo, hi)
+        })
+        .collect();
+    let mut by_x: Vec<usize> = (0..boxes.len()).collect();
+    by_x.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
+    let mut inseparable = Vec::new();
+    for (k, &a) in by_x.iter().enumerate() {
+        for &b in &by_x[k + 1..] {
+            if boxes[b].0.x > boxes[a].1.x + 2.0 * TOLERANCE {
+                break;
+            }
+            if boxes[a].0.y > boxes[b].1.y + 2.0 * TOLERANCE
+                || boxes[b].0.y > boxes[a].1.y + 2.0 * TOLERANCE
+            {
+                continue;
+            }
             if separating_line(&centroids[a], &centroids[b], TOLERANCE).is_none() {
-                found.push(format!("clusters {a} and {b} are not separable by a line"));
+                inseparable.push((a.min(b), a.max(b)));
             }
         }
+    }
+    inseparable.sort_unstable();
+    for (a, b) in inseparable {
+        found.push(format!("clusters {a} and {b} are not separable by a line"));
     }
     found
 }
