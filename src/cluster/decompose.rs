@@ -8,7 +8,7 @@
 //! is. Branch and bound on the whole model multiplies the parts' search trees together; solved one
 //! by one, a table of 1000 objects is hundreds of small models.
 
-use super::milp::Solved;
+use super::solved::Solved;
 use crate::outcome::Status;
 
 /// One independent part of the model, with its candidates renumbered from 0.

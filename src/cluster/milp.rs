@@ -33,6 +33,7 @@ use super::hierarchical::{Hierarchical, HierarchicalSettings};
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::reuse::{self, LastOptimum};
 use super::separability::separability_conflicts;
+use super::solved::Solved;
 use super::{Clusterer, Clustering};
 use super::{admits_row, split_unrowable};
 use crate::error::{Error, Result};
@@ -194,18 +195,6 @@ pub struct Milp {
     settings: MilpSettings,
     /// The last proven optimum (time objective), reused while it provably stays optimal.
     last: LastOptimum,
-}
-
-/// What one solver call returned.
-pub(super) struct Solved {
-    pub status: Status,
-    /// Positions of the chosen candidates, ascending.
-    pub chosen: Vec<usize>,
-    pub bound: Option<f64>,
-    pub gap: Option<f64>,
-    pub nodes: Option<u64>,
-    pub iterations: Option<u64>,
-    pub backend_status: String,
 }
 
 /// The model's data, independent of the backend.

@@ -18,6 +18,7 @@ mod milp;
 mod objective;
 mod reuse;
 mod separability;
+mod solved;
 mod split;
 
 use serde::{Deserialize, Serialize};

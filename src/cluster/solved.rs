@@ -1,0 +1,22 @@
+//! What one solve of the clustering model returned: shared by the solver (`milp.rs`) and the
+//! merging of independent parts (`decompose.rs`), so neither depends on the other's internals.
+
+use crate::outcome::Status;
+
+/// What one solver call (or the merge of several) returned.
+pub(super) struct Solved {
+    /// The solver's status.
+    pub status: Status,
+    /// Positions of the chosen candidates, ascending.
+    pub chosen: Vec<usize>,
+    /// Best bound on the objective, when known.
+    pub bound: Option<f64>,
+    /// Relative gap, when known.
+    pub gap: Option<f64>,
+    /// Branch-and-bound nodes, when known.
+    pub nodes: Option<u64>,
+    /// LP iterations, when known.
+    pub iterations: Option<u64>,
+    /// The backend's own words.
+    pub backend_status: String,
+}
