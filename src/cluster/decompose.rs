@@ -163,16 +163,7 @@ fn weakness(status: &Status) -> u8 {
 /// clustering.
 pub(super) fn merge(solved: Vec<(Part, Solved)>) -> (Solved, usize) {
     if solved.is_empty() {
-        let empty = Solved {
-            status: Status::Optimal,
-            chosen: Vec::new(),
-            bound: Some(0.0),
-            gap: Some(0.0),
-            nodes: Some(0),
-            iterations: Some(0),
-            backend_status: "empty scene".to_string(),
-        };
-        return (empty, 0);
+        return (Solved::empty(), 0);
     }
     if solved.len() == 1 {
         let (part, mut answer) = solved.into_iter().next().expect("one part");

@@ -239,17 +239,6 @@ impl Milp {
         deadline: Instant,
         rounds: &mut usize,
     ) -> Solved {
-        if scene.is_empty() {
-            return Solved {
-                status: Status::Optimal,
-                chosen: Vec::new(),
-                bound: Some(0.0),
-                gap: Some(0.0),
-                nodes: Some(0),
-                iterations: Some(0),
-                backend_status: "empty scene".to_string(),
-            };
-        }
         loop {
             *rounds += 1;
             let remaining = deadline
@@ -650,7 +639,8 @@ impl Clusterer for Milp {
             ClusterObjective::FewestClusters => None,
         };
         let mut parts = 0;
-        let (solved, parts_fell_back) = match reused.clone() {
+        let was_reused = reused.is_some();
+        let (solved, parts_fell_back) = match reused {
             Some(chosen) => {
                 let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
                 let solved = Solved {
@@ -720,10 +710,7 @@ impl Clusterer for Milp {
             ("variables".to_string(), candidates.len() as f64),
             ("constraints".to_string(), (scene.len() + clash_rows) as f64),
             ("solves".to_string(), rounds as f64),
-            (
-                "reused".to_string(),
-                if reused.is_some() { 1.0 } else { 0.0 },
-            ),
+            ("reused".to_string(), if was_reused { 1.0 } else { 0.0 }),
             ("parts".to_string(), parts as f64),
             ("parts_fell_back".to_string(), parts_fell_back as f64),
             ("heuristic_objective".to_string(), heuristic_cost),

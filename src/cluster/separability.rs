@@ -14,7 +14,7 @@
 use nalgebra::Point2;
 
 use super::split::{SplitSettings, split_until_valid};
-use crate::geometry::are_separable;
+use crate::geometry::{are_separable, point_bounds};
 use crate::scene::Scene;
 
 /// Centroids closer than this to a common line (metres) count as not separable.
@@ -47,7 +47,7 @@ pub(super) fn pairs_with_touching_boxes(
     points: &[Vec<Point2<f64>>],
     mut visit: impl FnMut(usize, usize) -> bool,
 ) -> bool {
-    let boxes: Vec<(Point2<f64>, Point2<f64>)> = points.iter().map(|p| bounds(p)).collect();
+    let boxes: Vec<(Point2<f64>, Point2<f64>)> = points.iter().map(|p| point_bounds(p)).collect();
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let gap = 2.0 * SEPARATION_TOLERANCE;
@@ -74,24 +74,8 @@ pub(super) fn pairs_with_touching_boxes(
 /// exactly these pairs).
 pub(super) fn boxes_apart(first: &[Point2<f64>], second: &[Point2<f64>]) -> bool {
     let gap = 2.0 * SEPARATION_TOLERANCE;
-    let ((lo_a, hi_a), (lo_b, hi_b)) = (bounds(first), bounds(second));
+    let ((lo_a, hi_a), (lo_b, hi_b)) = (point_bounds(first), point_bounds(second));
     lo_a.x > hi_b.x + gap || lo_b.x > hi_a.x + gap || lo_a.y > hi_b.y + gap || lo_b.y > hi_a.y + gap
-}
-
-/// Smallest axis-parallel box around `points`: lower and upper corners.
-fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
-    points.iter().fold(
-        (
-            Point2::new(f64::INFINITY, f64::INFINITY),
-            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| {
-            (
-                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        },
-    )
 }
 
 /// Repairs conflicts as the module docs describe; returns the number of clusters changed.

@@ -20,3 +20,18 @@ pub(super) struct Solved {
     /// The backend's own words.
     pub backend_status: String,
 }
+
+impl Solved {
+    /// The answer for a table with nothing on it: no clusters, proven optimal at cost 0.
+    pub fn empty() -> Self {
+        Self {
+            status: Status::Optimal,
+            chosen: Vec::new(),
+            bound: Some(0.0),
+            gap: Some(0.0),
+            nodes: Some(0),
+            iterations: Some(0),
+            backend_status: "empty scene".to_string(),
+        }
+    }
+}

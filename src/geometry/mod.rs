@@ -28,7 +28,7 @@ mod simplify;
 pub use discs::Discs;
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use manifold::{ContactPoint, contact_points};
-pub use polygon::{ConvexPolygon, PolygonError, cross};
+pub use polygon::{ConvexPolygon, PolygonError, cross, point_bounds};
 pub use queries::{distance, overlap, point_distance};
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};

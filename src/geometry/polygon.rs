@@ -99,7 +99,7 @@ impl ConvexPolygon {
         {
             return Err(PolygonError::NonFinite { index });
         }
-        let (lo, hi) = bounds(&vertices);
+        let (lo, hi) = point_bounds(&vertices);
         let diagonal = (hi - lo).norm();
         for i in 0..n {
             let j = (i + 1) % n;
@@ -322,7 +322,7 @@ impl ConvexPolygon {
 
     /// Axis-aligned bounding box as `(min corner, max corner)`.
     pub fn bounding_box(&self) -> (Point2<f64>, Point2<f64>) {
-        bounds(&self.vertices)
+        point_bounds(&self.vertices)
     }
 
     /// The bounding box of this polygon swept along `offset` (its start and end positions together).
@@ -374,7 +374,8 @@ fn shoelace(vertices: &[Point2<f64>]) -> f64 {
     twice / 2.0
 }
 
-fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
+/// Smallest axis-parallel box around `points`: lower and upper corners (infinite, inverted, for none).
+pub fn point_bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
     let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
     let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
     for p in points {

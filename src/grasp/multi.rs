@@ -41,7 +41,7 @@ use super::model::{GraspModel, Squeeze, row_in_scene, squeeze};
 use super::outcome::{GraspOutcome, ModelOutcome, Noise};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
-use crate::geometry::{ConvexPolygon, convex_hull};
+use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Scene};
 
@@ -222,7 +222,7 @@ impl MultiObject {
             .flat_map(|&i| scene.world_polygon(i).vertices().to_vec())
             .collect();
         let hull = ConvexPolygon::new(convex_hull(&outline)).ok();
-        let (lo, hi) = bounds(&outline);
+        let (lo, hi) = point_bounds(&outline);
         let [nx, ny] = self.settings.grid;
         let mut centres = Vec::new();
         for ix in 0..nx {
@@ -318,21 +318,6 @@ fn aligned_centre(scene: &Scene, targets: &[usize], angle: f64) -> Point2<f64> {
         middles / targets.len() as f64
     };
     Point2::from(axis * along + across * side)
-}
-
-fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
-    points.iter().fold(
-        (
-            Point2::new(f64::INFINITY, f64::INFINITY),
-            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| {
-            (
-                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        },
-    )
 }
 
 impl GraspPlanner for MultiObject {

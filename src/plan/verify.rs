@@ -23,7 +23,9 @@ use nalgebra::{Point2, Vector2};
 use super::{Plan, RunStatus, Trip};
 use crate::cluster::Clustering;
 use crate::cluster::summed_diameter;
-use crate::geometry::{ConvexPolygon, cast_distance, overlap, penetration_depth, separating_line};
+use crate::geometry::{
+    ConvexPolygon, cast_distance, overlap, penetration_depth, point_bounds, separating_line,
+};
 use crate::scene::{Gripper, ObjectId, Scene};
 
 /// Numerical slack of the checks, metres.
@@ -355,19 +357,7 @@ pub fn verify_clustering(scene: &Scene, clustering: &Clustering) -> Vec<String> 
     // by an axis-parallel line; only the others need the exact test (a sweep along x).
     let boxes: Vec<(Point2<f64>, Point2<f64>)> = centroids
         .iter()
-        .map(|points| {
-            let lo = points
-                .iter()
-                .fold(Point2::new(f64::INFINITY, f64::INFINITY), |b, p| {
-                    Point2::new(b.x.min(p.x), b.y.min(p.y))
-                });
-            let hi = points
-                .iter()
-                .fold(Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |b, p| {
-                    Point2::new(b.x.max(p.x), b.y.max(p.y))
-                });
-            (lo, hi)
-        })
+        .map(|points| point_bounds(points))
         .collect();
     let mut by_x: Vec<usize> = (0..boxes.len()).collect();
     by_x.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
