@@ -7,10 +7,12 @@
 //! axis; axes along which the members' widths cannot fit the jaws are dropped, and the rest carry a
 //! lower bound on the push distance ([`lower_bound`]). A solved row becomes pushes as follows:
 //! 1. members that would move less than `min_push` are held where they are and the program is solved
-//!    again with them fixed ("objects already in place are not pushed");
+//!    again with them fixed ("objects already in place are not pushed"); when every member is that
+//!    close, only the one nearest its target is held, since their small offsets add up across the row;
 //! 2. the pushes are sequenced: every order of the pushes is tried until one has every object's straight
 //!    sweep and the fingers' footprint clear of every other object as it stands at that moment
-//!    (exact separating-axis sweeps, `geometry::cast_distance`, and [`plan_fork`]);
+//!    (exact separating-axis sweeps, `geometry::cast_distance`, and [`plan_fork`]); a member whose
+//!    straight push is refused may take two legs, across the closing axis and along it;
 //! 3. the grasp model judges the row at its intended grasp (held, or a member slips out).
 //!
 //! The search, with `prefer_held_rows` (default), looks for the cheapest held row: every axis is
@@ -337,82 +339,162 @@ impl Socp {
         }
     }
 
-    /// Pushes that reach `targets` in some order with every sweep and finger path clear.
+    /// Pushes that reach `targets` in some order with every sweep and finger path clear. Straight
+    /// pushes first, in every order; only when no order works may a member whose straight push is
+    /// refused take two legs instead, across the closing axis `axis` and along it
+    /// ([`Socp::two_legs`]). The failure reported is that of the straight pushes.
     fn sequence(
         &self,
         scene: &Scene,
         members: &[usize],
         targets: &[Point2<f64>],
+        axis: &Vector2<f64>,
     ) -> std::result::Result<Vec<Push>, (ObjectId, SkipReason)> {
         let moves: Vec<usize> = (0..members.len())
             .filter(|&m| nalgebra::distance(&targets[m], &scene.centroid(members[m])) > 0.0)
             .collect();
         let ids: Vec<ObjectId> = scene.objects().iter().map(|o| o.id).collect();
-        let mut last_failure = None;
-        for order in permutations(&moves, 120) {
-            let mut world: Vec<ConvexPolygon> = (0..scene.len())
-                .map(|i| scene.world_polygon(i).clone())
-                .collect();
-            let mut pushes = Vec::new();
-            let mut failed = None;
-            for &m in &order {
-                let index = members[m];
-                let offset = targets[m] - scene.centroid(index);
-                let distance = offset.norm();
-                let direction = offset / distance;
-                let swept = world[index].swept_box(&offset);
-                if let Some(blocker) = (0..scene.len())
-                    .filter(|&o| o != index && world[o].box_meets(swept))
-                    .find(|&o| {
-                        cast_distance(&world[index], &direction, distance, &world[o])
-                            .is_some_and(|hit| hit < distance - 1e-9)
-                    })
-                {
-                    failed = Some((
-                        ids[index],
-                        SkipReason::BlockedBy {
-                            object: ids[blocker],
-                        },
-                    ));
-                    break;
-                }
-                match plan_fork(
-                    scene.gripper(),
-                    &self.settings.fork,
-                    &world,
-                    &ids,
-                    index,
-                    scene.objects()[index].height,
-                    &direction,
-                    distance,
-                ) {
-                    Ok(fork) => {
-                        let from = scene.objects()[index].pose;
-                        pushes.push(Push {
-                            object: ids[index],
-                            from,
-                            to: Pose::new(from.x + offset.x, from.y + offset.y, from.yaw),
-                            direction,
-                            distance,
-                            fork,
-                        });
-                        world[index] = world[index].translated(&offset);
-                    }
-                    Err(reason) => {
-                        failed = Some((ids[index], reason));
-                        break;
+        let mut straight_failure = None;
+        for with_legs in [false, true] {
+            for order in permutations(&moves, 120) {
+                let mut world: Vec<ConvexPolygon> = (0..scene.len())
+                    .map(|i| scene.world_polygon(i).clone())
+                    .collect();
+                let mut pushes = Vec::new();
+                let mut failed = None;
+                for &m in &order {
+                    let index = members[m];
+                    let offset = targets[m] - scene.centroid(index);
+                    let from = scene.objects()[index].pose;
+                    let legs = match self.leg(scene, &world, &ids, index, from, offset) {
+                        Ok(push) => Ok(vec![(push, offset)]),
+                        Err(straight) if with_legs => self
+                            .two_legs(scene, &world, &ids, index, offset, axis)
+                            .ok_or(straight),
+                        Err(straight) => Err(straight),
+                    };
+                    match legs {
+                        Ok(legs) => {
+                            for (push, moved) in legs {
+                                world[index] = world[index].translated(&moved);
+                                pushes.push(push);
+                            }
+                        }
+                        Err(reason) => {
+                            failed = Some((ids[index], reason));
+                            break;
+                        }
                     }
                 }
-            }
-            match failed {
-                None => return Ok(pushes),
-                Some(failure) => last_failure = Some(failure),
+                match failed {
+                    None => return Ok(pushes),
+                    Some(failure) if !with_legs => straight_failure = Some(failure),
+                    Some(_) => {}
+                }
             }
         }
-        match last_failure {
+        match straight_failure {
             Some(failure) => Err(failure),
             None => Ok(Vec::new()),
         }
+    }
+
+    /// One straight push by `offset` of the object `index`, at pose `from` on the table `world` as
+    /// it stands: its sweep must touch no other object and the fingers must find room
+    /// ([`plan_fork`]).
+    fn leg(
+        &self,
+        scene: &Scene,
+        world: &[ConvexPolygon],
+        ids: &[ObjectId],
+        index: usize,
+        from: Pose,
+        offset: Vector2<f64>,
+    ) -> std::result::Result<Push, SkipReason> {
+        let distance = offset.norm();
+        let direction = offset / distance;
+        let swept = world[index].swept_box(&offset);
+        if let Some(blocker) = (0..world.len())
+            .filter(|&o| o != index && world[o].box_meets(swept))
+            .find(|&o| {
+                cast_distance(&world[index], &direction, distance, &world[o])
+                    .is_some_and(|hit| hit < distance - 1e-9)
+            })
+        {
+            return Err(SkipReason::BlockedBy {
+                object: ids[blocker],
+            });
+        }
+        let fork = plan_fork(
+            scene.gripper(),
+            &self.settings.fork,
+            world,
+            ids,
+            index,
+            scene.objects()[index].height,
+            &direction,
+            distance,
+        )?;
+        Ok(Push {
+            object: ids[index],
+            from,
+            to: Pose::new(from.x + offset.x, from.y + offset.y, from.yaw),
+            direction,
+            distance,
+            fork,
+        })
+    }
+
+    /// The push by `offset` as two legs, one across `axis` and one along it, in either order, when
+    /// both are at least `min_push` long and each is clear. Two objects whose extents along some
+    /// line are apart cannot meet while one slides across that line, so a member that a straight
+    /// push would drag past a neighbour's corner reaches its slot this way: along the axis first when
+    /// it lies beside the neighbour across the axis, across first when it lies in line with it.
+    fn two_legs(
+        &self,
+        scene: &Scene,
+        world: &[ConvexPolygon],
+        ids: &[ObjectId],
+        index: usize,
+        offset: Vector2<f64>,
+        axis: &Vector2<f64>,
+    ) -> Option<Vec<(Push, Vector2<f64>)>> {
+        let along = axis * offset.dot(axis);
+        let across = offset - along;
+        if along.norm() < self.settings.min_push || across.norm() < self.settings.min_push {
+            return None;
+        }
+        let from = scene.objects()[index].pose;
+        // The corner of the path keeps inside the workspace as targets do: `edge_margin` from every
+        // edge, or the start's own distance from it if smaller (both legs then stay inside too).
+        let workspace = scene.workspace();
+        let room = |outline: &ConvexPolygon| {
+            let (low, high) = outline.bounding_box();
+            [
+                low.x - workspace.min[0],
+                low.y - workspace.min[1],
+                workspace.max[0] - high.x,
+                workspace.max[1] - high.y,
+            ]
+        };
+        let start_room = room(&world[index]);
+        [[across, along], [along, across]]
+            .into_iter()
+            .find_map(|[a, b]| {
+                let corner = world[index].translated(&a);
+                let inside = room(&corner)
+                    .iter()
+                    .zip(start_room)
+                    .all(|(&r, start)| r >= self.settings.edge_margin.min(start));
+                if !inside {
+                    return None;
+                }
+                let first = self.leg(scene, world, ids, index, from, a).ok()?;
+                let mut moved = world.to_vec();
+                moved[index] = corner;
+                let second = self.leg(scene, &moved, ids, index, first.to, b).ok()?;
+                Some(vec![(first, a), (second, b)])
+            })
     }
 }
 
@@ -575,7 +657,7 @@ impl PushPlanner for Socp {
                         targets[m] = starts[m];
                     }
                 }
-                match self.sequence(scene, &members, &targets) {
+                match self.sequence(scene, &members, &targets, axis) {
                     Ok(pushes) => return Ok((pushes, targets, centre_line)),
                     Err((object, reason)) => {
                         let stuck = members
@@ -604,11 +686,19 @@ impl PushPlanner for Socp {
                        order: &[usize],
                        solution: &RowSolution|
          -> std::result::Result<Attempt, (ObjectId, SkipReason)> {
-            let fixed: Vec<bool> = (0..members.len())
-                .map(|m| {
-                    nalgebra::distance(&solution.targets[m], &starts[m]) < self.settings.min_push
-                })
+            let moves: Vec<f64> = (0..members.len())
+                .map(|m| nalgebra::distance(&solution.targets[m], &starts[m]))
                 .collect();
+            let mut fixed: Vec<bool> = moves.iter().map(|&d| d < self.settings.min_push).collect();
+            // Every member within `min_push` of its target does not make the row: their small
+            // offsets add up across it. Only the member nearest its target is held then, and the
+            // row solved again around it says whether the others must still move.
+            if fixed.iter().all(|&f| f) {
+                let nearest = (0..moves.len())
+                    .min_by(|&a, &b| moves[a].total_cmp(&moves[b]))
+                    .unwrap_or(0);
+                fixed = (0..moves.len()).map(|m| m == nearest).collect();
+            }
             let refine = fixed.iter().any(|&f| f);
             let (mut pushes, mut targets, mut centre_line) = realise(
                 axis,
