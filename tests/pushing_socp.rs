@@ -246,7 +246,7 @@ fn rectangles(width: f64, depth: f64, at: &[(f64, f64)]) -> Scene {
 #[test]
 fn a_member_beside_its_neighbour_slides_along_then_across_into_the_row() {
     // Two 30 × 40 mm rectangles, one 50 mm above the other and 10 mm to its left. Only a row along x
-    // fits the jaws (30 + 30 + 1 mm; along y 81 mm, and 3° off x already 67 mm), so one must come
+    // fits the jaws (30 + 30 + 1 mm; along y 81 mm, and 3° off x already 65.1 mm), so one must come
     // down beside the other, and a straight push there drags its corner through the other's.
     let scene = rectangles(0.03, 0.04, &[(0.30, 0.25), (0.31, 0.20)]);
     let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
