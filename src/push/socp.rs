@@ -498,6 +498,10 @@ impl Socp {
     }
 }
 
+/// Push plans whose times differ by at most this are taken as equally fast, seconds: 2.5 mm of
+/// pushing at the time model's default push speed (0.05 m/s).
+const EQUAL_TIME: f64 = 0.05;
+
 /// Pushes in order, the targets they reach and the plates' centre line across the axis.
 type Realised = (Vec<Push>, Vec<Point2<f64>>, f64);
 
@@ -722,7 +726,24 @@ impl PushPlanner for Socp {
                         })
                         .sum()
                 };
+                // A member pushed up to one held in place can shove it; near the workspace edge,
+                // out of the workspace. Of pushes that take about as long, those that hold the
+                // members furthest from the edge are kept (the nearer member moves, inward).
+                let workspace = scene.workspace();
+                let held_room = |targets: &[Point2<f64>]| {
+                    (0..members.len())
+                        .filter(|&m| targets[m] == starts[m])
+                        .map(|m| {
+                            let (low, high) = scene.world_polygon(members[m]).bounding_box();
+                            (low.x - workspace.min[0])
+                                .min(low.y - workspace.min[1])
+                                .min(workspace.max[0] - high.x)
+                                .min(workspace.max[1] - high.y)
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                };
                 let mut best = seconds(&pushes);
+                let mut best_room = held_room(&targets);
                 for m in 0..members.len() {
                     if fixed[m] || targets[m] == starts[m] {
                         continue;
@@ -744,8 +765,14 @@ impl PushPlanner for Socp {
                         continue;
                     };
                     let time = seconds(&fewer.0);
-                    if time < best - 1e-9 {
+                    let room = held_room(&fewer.1);
+                    let as_fast = (time - best).abs() <= EQUAL_TIME;
+                    let better = time < best - EQUAL_TIME
+                        || (as_fast && room > best_room + 1e-9)
+                        || (as_fast && (room - best_room).abs() <= 1e-9 && time < best - 1e-9);
+                    if better {
                         best = time;
+                        best_room = room;
                         (pushes, targets, centre_line) = fewer;
                     }
                 }
