@@ -303,3 +303,22 @@ fn members_each_nearly_in_place_still_close_a_row_too_wide() {
         - after.world_polygon(0).projection(&Vector2::x()).0;
     assert!(span <= 0.065 + 1e-6, "{span}");
 }
+
+#[test]
+fn the_member_nearer_the_workspace_edge_is_the_one_pushed() {
+    // 30 mm squares 100 mm apart on a line, the first 3 mm from the workspace's left edge. Either
+    // may make the whole 65 mm push in the same time; pushing the second up to the first could
+    // shove it out of the workspace, so the first is pushed, inward, and the second stays.
+    let scene = squares(0.03, &[(0.018, 0.2), (0.118, 0.2)]);
+    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
+    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    let pushes = &outcome.value.pushes;
+    assert!(
+        !pushes.is_empty() && pushes.iter().all(|p| p.object == ObjectId(0)),
+        "{pushes:?}"
+    );
+    assert!(pushes.iter().all(|p| p.direction.x > 0.99), "{pushes:?}");
+    let after = predict(&scene, pushes).unwrap();
+    assert_eq!(after.centroid(1), scene.centroid(1));
+    assert!((outcome.stats.objective.unwrap() - 0.065).abs() < 1e-6);
+}
