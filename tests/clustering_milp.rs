@@ -1,6 +1,7 @@
 //! The optimal clustering: brute force agrees with the MILP, it never loses to the heuristic, every
 //! answer verifies, and degenerate scenes get a valid clustering or a clear status.
 
+use crate::support::boxes;
 use nalgebra::Point2;
 use pushmog::cluster::{
     ClusterObjective, Clusterer, CostModel, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
@@ -240,19 +241,7 @@ fn polygon_square(side: f64) -> ConvexPolygon {
 }
 
 fn square_scene(side: f64, positions: &[(f64, f64)]) -> Scene {
-    let objects = positions
-        .iter()
-        .enumerate()
-        .map(|(k, &(x, y))| Object {
-            id: ObjectId(k as u32),
-            name: None,
-            polygon: polygon_square(side),
-            pose: Pose::new(x, y, 0.0),
-            height: 0.03,
-            mass: None,
-        })
-        .collect();
-    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
+    boxes(side, side, positions)
 }
 
 fn cluster_both(scene: &Scene) -> Vec<(Status, usize)> {

@@ -1,41 +1,16 @@
 //! The push-target SOCP: known optima, infeasible clusters, and plans that verify.
 
-use nalgebra::{Point2, Vector2};
+use crate::support::boxes;
+use nalgebra::Vector2;
 use pushmog::cluster::{Clusterer, Hierarchical};
-use pushmog::geometry::{ConvexPolygon, distance};
+use pushmog::geometry::distance;
 use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
 use pushmog::plan::Status;
 use pushmog::push::{PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, predict};
-use pushmog::scene::{
-    GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
-    generate_scene,
-};
-
-fn square(side: f64) -> ConvexPolygon {
-    let h = side / 2.0;
-    ConvexPolygon::new(vec![
-        Point2::new(-h, -h),
-        Point2::new(h, -h),
-        Point2::new(h, h),
-        Point2::new(-h, h),
-    ])
-    .unwrap()
-}
+use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
 
 fn squares(side: f64, at: &[(f64, f64)]) -> Scene {
-    let objects = at
-        .iter()
-        .enumerate()
-        .map(|(k, &(x, y))| Object {
-            id: ObjectId(k as u32),
-            name: None,
-            polygon: square(side),
-            pose: Pose::new(x, y, 0.0),
-            height: 0.03,
-            mass: None,
-        })
-        .collect();
-    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
+    boxes(side, side, at)
 }
 
 fn ids(n: u32) -> Vec<ObjectId> {
@@ -220,35 +195,12 @@ fn targets_stay_clear_of_the_workspace_edge() {
     assert!(checked > 50, "{checked} pushes");
 }
 
-fn rectangles(width: f64, depth: f64, at: &[(f64, f64)]) -> Scene {
-    let (w, d) = (width / 2.0, depth / 2.0);
-    let objects = at
-        .iter()
-        .enumerate()
-        .map(|(k, &(x, y))| Object {
-            id: ObjectId(k as u32),
-            name: None,
-            polygon: ConvexPolygon::new(vec![
-                Point2::new(-w, -d),
-                Point2::new(w, -d),
-                Point2::new(w, d),
-                Point2::new(-w, d),
-            ])
-            .unwrap(),
-            pose: Pose::new(x, y, 0.0),
-            height: 0.03,
-            mass: None,
-        })
-        .collect();
-    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
-}
-
 #[test]
 fn a_member_beside_its_neighbour_slides_along_then_across_into_the_row() {
     // Two 30 × 40 mm rectangles, one 50 mm above the other and 10 mm to its left. Only a row along x
     // fits the jaws (30 + 30 + 1 mm; along y 81 mm, and 3° off x already 65.1 mm), so one must come
     // down beside the other, and a straight push there drags its corner through the other's.
-    let scene = rectangles(0.03, 0.04, &[(0.30, 0.25), (0.31, 0.20)]);
+    let scene = boxes(0.03, 0.04, &[(0.30, 0.25), (0.31, 0.20)]);
     let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
     assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
     let pushes = &outcome.value.pushes;

@@ -1,7 +1,11 @@
-//! Shared helpers: fixture paths and running the command-line binary.
+//! Shared helpers: fixture paths, running the command-line binary, and small hand-made scenes.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
+
+use nalgebra::{Point2, Vector2};
+use pushmog::geometry::ConvexPolygon;
+use pushmog::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
 
 /// Path of a file under `tests/fixtures`.
 pub fn fixture(relative: &str) -> PathBuf {
@@ -24,4 +28,24 @@ pub fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// A 0.5 m × 0.4 m table of axis-aligned boxes `width` along x and `depth` along y, 30 mm tall, with
+/// ids 0, 1, … at the centres `at`.
+pub fn boxes(width: f64, depth: f64, at: &[(f64, f64)]) -> Scene {
+    let outline =
+        ConvexPolygon::rectangle(&Point2::origin(), &Vector2::x(), width / 2.0, depth / 2.0);
+    let objects = at
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, y))| Object {
+            id: ObjectId(k as u32),
+            name: None,
+            polygon: outline.clone(),
+            pose: Pose::new(x, y, 0.0),
+            height: 0.03,
+            mass: None,
+        })
+        .collect();
+    Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
 }

@@ -468,21 +468,13 @@ impl Socp {
         // The corner of the path keeps inside the workspace as targets do: `edge_margin` from every
         // edge, or the start's own distance from it if smaller (both legs then stay inside too).
         let workspace = scene.workspace();
-        let room = |outline: &ConvexPolygon| {
-            let (low, high) = outline.bounding_box();
-            [
-                low.x - workspace.min[0],
-                low.y - workspace.min[1],
-                workspace.max[0] - high.x,
-                workspace.max[1] - high.y,
-            ]
-        };
-        let start_room = room(&world[index]);
+        let start_room = workspace.room(world[index].bounding_box());
         [[across, along], [along, across]]
             .into_iter()
             .find_map(|[a, b]| {
                 let corner = world[index].translated(&a);
-                let inside = room(&corner)
+                let inside = workspace
+                    .room(corner.bounding_box())
                     .iter()
                     .zip(start_room)
                     .all(|(&r, start)| r >= self.settings.edge_margin.min(start));
@@ -729,16 +721,13 @@ impl PushPlanner for Socp {
                 // A member pushed up to one held in place can shove it; near the workspace edge,
                 // out of the workspace. Of pushes that take about as long, those that hold the
                 // members furthest from the edge are kept (the nearer member moves, inward).
-                let workspace = scene.workspace();
                 let held_room = |targets: &[Point2<f64>]| {
                     (0..members.len())
                         .filter(|&m| targets[m] == starts[m])
-                        .map(|m| {
-                            let (low, high) = scene.world_polygon(members[m]).bounding_box();
-                            (low.x - workspace.min[0])
-                                .min(low.y - workspace.min[1])
-                                .min(workspace.max[0] - high.x)
-                                .min(workspace.max[1] - high.y)
+                        .flat_map(|m| {
+                            scene
+                                .workspace()
+                                .room(scene.world_polygon(members[m]).bounding_box())
                         })
                         .fold(f64::INFINITY, f64::min)
                 };

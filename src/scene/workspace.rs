@@ -63,6 +63,17 @@ impl Workspace {
         Point2::new(self.max[0], self.max[1])
     }
 
+    /// The gaps between the box `(low, high)` and the edges, metres, in the order left, bottom,
+    /// right, top (negative where the box reaches past an edge).
+    pub fn room(&self, (low, high): (Point2<f64>, Point2<f64>)) -> [f64; 4] {
+        [
+            low.x - self.min[0],
+            low.y - self.min[1],
+            self.max[0] - high.x,
+            self.max[1] - high.y,
+        ]
+    }
+
     /// How far `point` lies outside the rectangle, metres (0 inside).
     pub fn outside_by(&self, point: &Point2<f64>) -> f64 {
         let dx = (self.min[0] - point.x).max(point.x - self.max[0]).max(0.0);
