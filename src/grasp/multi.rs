@@ -206,6 +206,11 @@ impl MultiObject {
         Ok(Self { settings, outcome })
     }
 
+    /// The outcome model.
+    pub fn outcome(&self) -> Arc<dyn GraspOutcome> {
+        Arc::clone(&self.outcome)
+    }
+
     /// The outcome model's name.
     pub fn outcome_name(&self) -> &'static str {
         self.outcome.name()

@@ -40,7 +40,7 @@ use crate::grasp::{
 };
 use crate::plan::Plan;
 use crate::push::{
-    ForkSettings, PushPlanner, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
+    ForkSettings, PushPlanner, RowJudge, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
 };
 use crate::scene::{ObjectId, Scene};
 use crate::time_model::TimeModel;
@@ -409,6 +409,7 @@ impl PolicyBuilder {
     pub fn build(self) -> Result<Policy> {
         self.settings.validate()?;
         let settings = self.settings.effective();
+        let multi = multi_object(&settings)?;
         let clusterer = match self.clusterer {
             Some(chosen) => chosen,
             None => match self.parts.0.unwrap_or(self.kind.clusterer()) {
@@ -428,10 +429,15 @@ impl PolicyBuilder {
                     Some(Arc::new(TowardCentral::new(settings.pushing.clone())?)
                         as Arc<dyn PolicyPusher>)
                 }
-                PusherKind::Socp => Some(Arc::new(Socp::new(settings.socp.clone())?) as _),
+                PusherKind::Socp => Some(Arc::new(Socp::new(settings.socp.clone())?.with_judge(
+                    RowJudge {
+                        outcome: multi.outcome(),
+                        samples: settings.multi.samples,
+                        min_probability: settings.multi.min_probability,
+                    },
+                )) as _),
             },
         };
-        let multi = multi_object(&settings)?;
         Ok(Policy {
             kind: self.kind,
             clusterer,

@@ -13,7 +13,9 @@
 //!    sweep and the fingers' footprint clear of every other object as it stands at that moment
 //!    (exact separating-axis sweeps, `geometry::cast_distance`, and [`plan_fork`]); a member whose
 //!    straight push is refused may take two legs, across the closing axis and along it;
-//! 3. the grasp model judges the row at its intended grasp (held, or a member slips out).
+//! 3. the row is judged at its intended grasp: with `robust_rows` (default) as the policy's
+//!    multi-object planner judges grasps, on the predicted table and on noisy copies of it
+//!    ([`RowJudge`]); otherwise by the grasp model alone (held, or a member slips out).
 //!
 //! The search, with `prefer_held_rows` (default), looks for the cheapest held row: every axis is
 //! visited, first those along which a perfect row of the members is held by the grasp model (a cheap
@@ -30,6 +32,7 @@
 //! straight sweep then stays on its side.
 
 use std::cell::Cell;
+use std::sync::Arc;
 use std::time::Instant;
 
 use clarabel::solver::SolverStatus;
@@ -41,7 +44,7 @@ use super::row::{Fence, RowProblem, RowSolution, lower_bound, solve_row};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
-use crate::grasp::{Body, GraspModel, JawPose, Memory, Squeeze, squeeze};
+use crate::grasp::{Body, GraspModel, GraspOutcome, JawPose, Memory, Squeeze, squeeze};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
 use crate::time_model::TimeModel;
@@ -85,6 +88,12 @@ pub struct SocpSettings {
     /// Among rows that can be pushed into place, take the cheapest one the grasp model predicts held
     /// (the cheapest of all when none is). Default true.
     pub prefer_held_rows: bool,
+    /// Judge a row's intended grasp as the policy's multi-object planner judges its grasps: on the
+    /// table predicted after the pushes and on copies moved by the noise the run assumes (a pushed
+    /// object's push error included), held when at least its `min_probability` of the samples
+    /// carry every member. Default true. False, or a planner built without that judge
+    /// ([`Socp::with_judge`]): the grasp model's prediction alone.
+    pub robust_rows: bool,
 
     /// The grasp model that judges rows. In a policy's settings it is set once for every stage
     /// (`PolicySettings::grasp_model`).
@@ -113,6 +122,7 @@ impl Default for SocpSettings {
             neighbourhood: 0.15,
             min_push: 0.003,
             prefer_held_rows: true,
+            robust_rows: true,
             model: GraspModel::default(),
             fork: ForkSettings::default(),
             time_model: TimeModel::default(),
@@ -163,6 +173,20 @@ pub struct Socp {
     /// Closings of perfect rows already judged (`grasp/memory.rs`): the same cluster is planned
     /// again on later trips.
     memory: Memory,
+    /// The policy's judge of grasps under noise, used when `robust_rows` is set.
+    judge: Option<RowJudge>,
+}
+
+/// How rows are judged under noise: the multi-object planner's outcome model, its samples per
+/// candidate and the least probability it uses a grasp at.
+#[derive(Clone, Debug)]
+pub struct RowJudge {
+    /// The outcome model.
+    pub outcome: Arc<dyn GraspOutcome>,
+    /// Samples per judged grasp, the predicted table first.
+    pub samples: usize,
+    /// Least estimated probability that every member is carried.
+    pub min_probability: f64,
 }
 
 /// A solved row turned into pushes.
@@ -184,7 +208,15 @@ impl Socp {
         Ok(Self {
             settings,
             memory: Memory::default(),
+            judge: None,
         })
+    }
+
+    /// The same planner judging rows with `judge` when `robust_rows` is set (the policies give it
+    /// their multi-object planner's outcome model).
+    pub fn with_judge(mut self, judge: RowJudge) -> Self {
+        self.judge = Some(judge);
+        self
     }
 
     /// The effective settings.
@@ -322,7 +354,8 @@ impl Socp {
         )
     }
 
-    /// Whether the grasp model holds every member when the jaws close at `jaws` after the pushes.
+    /// Whether every member is carried when the jaws close at `jaws` after the pushes: by the grasp
+    /// model alone, or under noise by the judge (`robust_rows`).
     fn row_is_held(
         &self,
         scene: &Scene,
@@ -333,9 +366,23 @@ impl Socp {
         let Ok(after) = predict(scene, pushes) else {
             return false;
         };
-        match squeeze(&after, jaws, &self.settings.model) {
-            Squeeze::Held { objects, .. } => members.iter().all(|m| objects.contains(m)),
-            _ => false,
+        let carries_all = |nominal: &Squeeze| {
+            matches!(nominal, Squeeze::Held { objects, .. }
+                if members.iter().all(|m| objects.contains(m)))
+        };
+        match self.judge.as_ref().filter(|_| self.settings.robust_rows) {
+            Some(judge) => {
+                let pushed: Vec<usize> = pushes
+                    .iter()
+                    .filter_map(|p| after.index_of(p.object))
+                    .collect();
+                let samples = judge.samples.max(1);
+                let max_failures =
+                    ((1.0 - judge.min_probability) * samples as f64 + 1e-9).floor() as usize;
+                let judgement = judge.outcome.judge(&after, jaws, &pushed, max_failures);
+                carries_all(&judgement.nominal) && judgement.probability() >= judge.min_probability
+            }
+            None => carries_all(&squeeze(&after, jaws, &self.settings.model)),
         }
     }
 
