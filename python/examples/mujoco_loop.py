@@ -158,6 +158,7 @@ class World:
         self.qvel = {i: self.model.jnt_dofadr[self.model.body_jntadr[b]] for i, b in self.body.items()}
         self.pads = {self.model.geom("left").id, self.model.geom("right").id}
         self.geom_object = {g: i for i, b in self.body.items() for g in range(self.model.ngeom) if self.model.geom_bodyid[g] == b}
+        self.landed_on: Optional[int] = None  # the object a pad last came down on
         self.binned: list = []
         half = self.scene.gripper["stroke"] / 2
         # Park the gripper high above the table, jaws fully open.
@@ -221,6 +222,7 @@ class World:
             pair = {contact.geom1, contact.geom2}
             if pair & self.pads and any(g in self.geom_object for g in pair) and contact.dist < 0:
                 if abs(contact.frame[2]) > 0.5:
+                    self.landed_on = next(self.geom_object[g] for g in pair if g in self.geom_object)
                     return True
         return False
 
@@ -372,9 +374,10 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
         run = planner.settings["run"]
         landed, pushes, looks, current = False, 0, 0, trip
         while True:
-            for push in current.pushes:
+            for index, push in enumerate(current.pushes):
                 if world.push(push, offset):
                     landed = True
+                    context.record_landing(current, index, world.landed_on)
                     break
                 pushes += 1
             if landed or not current.pushes or not run["observe_after_pushes"]:

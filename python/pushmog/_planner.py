@@ -21,9 +21,10 @@ class NoTrip(Exception):
 
 
 class TripContext:
-    """What a closed loop carries between trips: the seeded random stream that picks the next cluster
-    and the jaw poses whose grasps carried nothing (never proposed again). A loop that wants the
-    command line's choices uses one context, seeded as ``pushmog plan --seed``."""
+    """What a closed loop carries between trips: the seeded random stream that picks the next cluster,
+    the jaw poses whose grasps carried nothing and the pushes whose fingers came down on another
+    object (neither tried again from practically the same place). A loop that wants the command
+    line's choices uses one context, seeded as ``pushmog plan --seed``."""
 
     __slots__ = ("_native",)
 
@@ -38,6 +39,20 @@ class TripContext:
     def failed(self) -> list:
         """Jaw poses recorded as failed, as dicts."""
         return json.loads(self._native.failed())
+
+    def record_landing(self, trip: TripPlan, push: int, on: int) -> None:
+        """During push number ``push`` of ``trip`` a finger came down on object ``on``: that push
+        is not made again from practically the same place (the trip grasps the cluster as it lies,
+        or one object)."""
+        pushes = trip.to_dict()["pushes"]
+        if not 0 <= push < len(pushes):
+            raise ValueError(f"push: the trip has {len(pushes)} pushes, got index {push}")
+        self._native.add_landed(json.dumps(pushes[push]), int(on))
+
+    @property
+    def landed(self) -> list:
+        """Pushes recorded as landed on an object, as dicts with ``push`` and ``on``."""
+        return json.loads(self._native.landed())
 
 
 class Planner:

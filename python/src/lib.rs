@@ -12,7 +12,10 @@ use pushmog::exec::{Executor, Sim, SimSettings};
 use pushmog::grasp::JawPose;
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, verify};
-use pushmog::policy::{Policy, PolicyKind, PolicySettings, TripContext as Context, TripPlan};
+use pushmog::policy::{
+    Landing, Policy, PolicyKind, PolicySettings, TripContext as Context, TripPlan,
+};
+use pushmog::push::Push;
 use pushmog::render::{RenderOptions, plan_svg, scene_svg};
 use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set, generate_scene};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -139,8 +142,9 @@ impl Scene {
     }
 }
 
-/// What a closed loop remembers between trips: the random stream that picks the next cluster and
-/// the jaw poses where grasps carried nothing (never proposed again).
+/// What a closed loop remembers between trips: the random stream that picks the next cluster, the
+/// jaw poses where grasps carried nothing and the pushes whose fingers came down on another object
+/// (neither tried again from practically the same place).
 #[pyclass(module = "pushmog._native")]
 struct TripContext {
     context: Context,
@@ -166,6 +170,21 @@ impl TripContext {
     /// The jaw poses recorded as failed, as JSON.
     fn failed(&self) -> String {
         to_json(&self.context.failed)
+    }
+
+    /// Records that during this push (JSON of a trip's push) a finger came down on object `on`.
+    fn add_landed(&mut self, push: &str, on: u32) -> PyResult<()> {
+        let push: Push = check(json::from_json(push, "push"))?;
+        self.context.landed.push(Landing {
+            push,
+            on: pushmog::scene::ObjectId(on),
+        });
+        Ok(())
+    }
+
+    /// The pushes recorded as landed on an object, as JSON (`push`, `on`).
+    fn landed(&self) -> String {
+        to_json(&self.context.landed)
     }
 }
 

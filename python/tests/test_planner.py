@@ -166,6 +166,22 @@ def test_failed_grasps_are_not_proposed_again(scene):
     assert again.grasp.jaws.to_dict() != trip.grasp.jaws.to_dict()
 
 
+def test_a_push_that_landed_is_remembered(scene):
+    """A landing during a push is kept in the context (the push and the object landed on); an index
+    past the trip's pushes is refused."""
+    planner = pushmog.Planner("push-mog-opt")
+    trip = next(
+        t for seed in range(20) if (t := planner.plan_trip(scene, pushmog.TripContext(seed))).pushes
+    )
+    context = pushmog.TripContext(0)
+    context.record_landing(trip, 0, 99)
+    assert len(context.landed) == 1
+    assert context.landed[0]["on"] == 99
+    assert context.landed[0]["push"]["object"] == trip.pushes[0].object
+    with pytest.raises(ValueError, match="push"):
+        context.record_landing(trip, len(trip.pushes), 99)
+
+
 def test_planning_releases_the_gil(scene):
     """While one thread is inside a long Rust call, another thread keeps running Python."""
     planner = pushmog.Planner("push-mog-opt")

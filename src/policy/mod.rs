@@ -477,7 +477,7 @@ mod run;
 mod trip;
 
 pub use run::{Run, RunTiming, run_seconds};
-pub use trip::{TripContext, TripPlan};
+pub use trip::{Landing, TripContext, TripPlan};
 
 impl Policy {
     /// The preset `kind` with these settings.

@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use super::trip::TripContext;
+use super::trip::{Landing, TripContext};
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;
@@ -136,6 +136,10 @@ impl<'a> Run<'a> {
                     record.fault = Some(Fault::Push {
                         push: k,
                         object: landing.object,
+                    });
+                    self.context.landed.push(Landing {
+                        push: push.clone(),
+                        on: landing.object,
                     });
                     break;
                 }

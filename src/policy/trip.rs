@@ -20,8 +20,10 @@ use serde::{Deserialize, Serialize};
 use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
+use crate::geometry::{ConvexPolygon, distance};
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::push::fork::finger_footprints;
 use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
@@ -46,12 +48,25 @@ pub struct TripPlan {
 type PushesThenGrasp = (Vec<Push>, Grasp);
 
 /// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
-/// and the jaw poses where grasps carried nothing (never proposed again).
+/// the jaw poses where grasps carried nothing (not tried again in practically the same place), and
+/// the pushes whose fingers came down on another object (that object is not pushed again with the
+/// fingers lowered near the one landed on).
 #[derive(Clone, Debug)]
 pub struct TripContext {
     rng: SeededRng,
     /// Jaw poses of grasps that carried nothing.
     pub failed: Vec<JawPose>,
+    /// Pushes during whose descent a finger came down on another object.
+    pub landed: Vec<Landing>,
+}
+
+/// A push during whose descent a finger came down on another object.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Landing {
+    /// The push.
+    pub push: Push,
+    /// The object the finger came down on.
+    pub on: ObjectId,
 }
 
 impl TripContext {
@@ -60,6 +75,7 @@ impl TripContext {
         Self {
             rng: SeededRng::new(seed),
             failed: Vec::new(),
+            landed: Vec::new(),
         }
     }
 }
@@ -95,7 +111,7 @@ impl Policy {
                     scene,
                     clusterer.as_ref(),
                     &mut context.rng,
-                    &context.failed,
+                    (&context.failed, &context.landed),
                     &mut clustering_seconds,
                 )?,
             }
@@ -168,13 +184,13 @@ impl Policy {
     /// after the pushes offers a multi-object grasp, and every pushed object that grasp does not
     /// take could still be taken by itself there (no object is stranded); otherwise nothing is pushed
     /// and the cluster is grasped as it lies. Jaws where a grasp failed before are never proposed
-    /// again.
+    /// again, nor pushes whose fingers would come down near an object they landed on before.
     fn draft_clustered(
         &self,
         observed: &Scene,
         clusterer: &dyn PolicyClusterer,
         rng: &mut SeededRng,
-        avoid: &[JawPose],
+        (avoid, landed): (&[JawPose], &[Landing]),
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, String>> {
         let started = Instant::now();
@@ -206,7 +222,7 @@ impl Policy {
         if let Some(pusher) = self.pusher.as_deref()
             && members.len() > 1
         {
-            let (pushed, why_not) = self.push_draft(pusher, observed, &members, avoid)?;
+            let (pushed, why_not) = self.push_draft(pusher, observed, &members, avoid, landed)?;
             skipped = why_not;
             if let Some((pushes, grasp)) = pushed {
                 return Ok(Ok(draft(pushes, skipped, grasp)));
@@ -233,18 +249,31 @@ impl Policy {
 
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,
     /// when that grasp takes two or more objects and every pushed object it leaves could still be
-    /// taken by itself there (no object is stranded); with the pushes that were planned and not
-    /// made, and why.
+    /// taken by itself there (no object is stranded), and no push lowers its fingers near an object
+    /// a push of the same object `landed` on; with the pushes that were planned and not made, and
+    /// why.
     fn push_draft(
         &self,
         pusher: &dyn PolicyPusher,
         observed: &Scene,
         members: &[ObjectId],
         avoid: &[JawPose],
+        landed: &[Landing],
     ) -> Result<(Option<PushesThenGrasp>, Vec<SkippedPush>)> {
         let plan = self.plan_pushes(pusher, observed, members)?;
         let mut skipped = plan.skipped;
         if plan.pushes.is_empty() {
+            return Ok((None, skipped));
+        }
+        let repeated = plan
+            .pushes
+            .iter()
+            .find_map(|push| landed.iter().find(|l| lands_again(observed, push, l)));
+        if let Some(landing) = repeated {
+            skipped.extend(plan.pushes.iter().map(|p| SkippedPush {
+                object: p.object,
+                reason: SkipReason::LandedBefore { object: landing.on },
+            }));
             return Ok((None, skipped));
         }
         let predicted = predict(observed, &plan.pushes)?;
@@ -323,7 +352,8 @@ impl Policy {
                 return Ok(Some(next(Vec::new(), skipped, grasp)));
             }
             if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
-                let (pushed, why_not) = self.push_draft(pusher, observed, &members, avoid)?;
+                let (pushed, why_not) =
+                    self.push_draft(pusher, observed, &members, avoid, &context.landed)?;
                 skipped = why_not;
                 if let Some((pushes, grasp)) = pushed {
                     return Ok(Some(next(pushes, skipped, grasp)));
@@ -401,6 +431,44 @@ impl Policy {
             Some((false, _, plan)) if !usable(&whole.status) => plan,
             _ => whole.value,
         })
+    }
+}
+
+/// After a finger came down on an object, later pushes of the same object keep their lowered
+/// fingers this far from it, metres: three standard deviations of where a finger comes down
+/// relative to an object under the simulator's noise (2 mm perception and 1 mm actuation, 2.2 mm
+/// per axis together), where the fork's usual clearance (`ForkSettings::finger_clearance`, 3 mm)
+/// is about 1.3. Plans of the same push differ by more than a few millimetres from look to look
+/// (each look sees the objects anew), so the test is the clearance, not the push's place.
+const LANDED_CLEARANCE: f64 = 0.007;
+
+/// Whether `push` pushes the object of `landing` with its fingers lowered within
+/// [`LANDED_CLEARANCE`] of the object a finger came down on then, as it lies on `observed`; or, when
+/// that object is not seen (it lies outside the workspace, where the camera does not look), within
+/// that distance of where the fingers came down then.
+fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
+    if push.object != landing.push.object {
+        return false;
+    }
+    let gripper = observed.gripper();
+    let fingers = |push: &Push| {
+        finger_footprints(
+            gripper,
+            push.fork.opening,
+            &push.fork.approach,
+            &push.direction,
+        )
+    };
+    let near = |obstacles: &[ConvexPolygon]| {
+        fingers(push).iter().any(|finger| {
+            obstacles
+                .iter()
+                .any(|obstacle| distance(finger, obstacle) < LANDED_CLEARANCE)
+        })
+    };
+    match observed.index_of(landing.on) {
+        Some(on) => near(std::slice::from_ref(observed.world_polygon(on))),
+        None => near(&fingers(&landing.push)),
     }
 }
 

@@ -90,6 +90,13 @@ pub enum SkipReason {
     /// Planned, but after the pushes some pushed object could not be taken by itself if the
     /// multi-object grasp failed, so they were not made.
     DeadEnd,
+    /// Planned, but when this object was pushed before in the run a finger came down on another
+    /// object, and this push would lower the fingers near that object again, so the pushes were not
+    /// made.
+    LandedBefore {
+        /// The object the finger came down on then.
+        object: ObjectId,
+    },
 }
 
 impl std::fmt::Display for SkipReason {
@@ -105,6 +112,10 @@ impl std::fmt::Display for SkipReason {
             Self::NoRow => write!(f, "no row of the cluster fits the jaws"),
             Self::WouldTip => write!(f, "it would tip over rather than slide"),
             Self::NoGraspAfter => write!(f, "no multi-object grasp after the pushes"),
+            Self::LandedBefore { object } => write!(
+                f,
+                "a finger came down on object {object} when pushed before"
+            ),
             Self::DeadEnd => write!(f, "it could not be taken alone after the pushes"),
         }
     }
