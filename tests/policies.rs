@@ -335,80 +335,52 @@ fn plan_files_are_compact_and_read_back_exactly() {
     assert!(plan.trips.iter().any(|t| !t.looks.is_empty()));
 }
 
-/// After a finger came down on another object during a push, that object is not pushed again with
-/// its fingers lowered within 7 mm of the object landed on: the trip planned again with the landing
-/// remembered makes no such push, says why, and still grasps something.
+/// After a finger came down during a push on an object the camera does not see (outside the
+/// workspace), that object is not pushed again with its fingers lowered near there: the trip planned
+/// again with the landing remembered makes no such push, says why, and still grasps something.
 #[test]
-fn a_push_that_landed_on_an_object_is_not_repeated() {
-    use pushmog::geometry::distance;
+fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
     use pushmog::policy::{Landing, TripContext};
     use pushmog::push::SkipReason;
-    use pushmog::push::fork::finger_footprints;
+    use pushmog::scene::ObjectId;
     let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
-    // The object nearest the lowered fingers of `push`, and how near.
-    let nearest = |table: &Scene, push: &pushmog::push::Push| {
-        let fingers = finger_footprints(
-            table.gripper(),
-            push.fork.opening,
-            &push.fork.approach,
-            &push.direction,
-        );
-        (0..table.len())
-            .filter(|&i| table.objects()[i].id != push.object)
-            .map(|i| {
-                let gap = fingers
-                    .iter()
-                    .map(|f| distance(f, table.world_polygon(i)))
-                    .fold(f64::INFINITY, f64::min);
-                (gap, table.objects()[i].id)
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .unwrap()
-    };
-    // A first trip (over scenes and the random choice of cluster) whose first push lowers the
-    // fingers within 7 mm of another object.
-    let (table, seed, landed, on) = (0..20)
-        .flat_map(|scene_seed| (0..20).map(move |seed| (scene_seed, seed)))
-        .find_map(|(scene_seed, seed)| {
-            let table = scene(scene_seed);
+    let (table, seed, first) = (0..20)
+        .find_map(|seed| {
+            let table = scene(seed);
             let trip = policy
                 .plan_trip_with(&table, &mut TripContext::new(seed))
                 .unwrap()
                 .value?;
-            let push = trip.pushes.first()?.clone();
-            let (gap, on) = nearest(&table, &push);
-            (gap < 0.007).then_some((table, seed, push, on))
+            (!trip.pushes.is_empty()).then_some((table, seed, trip))
         })
-        .expect("a first trip pushing near another object");
+        .expect("a first trip with pushes on one of 20 scenes");
+    let landed = first.pushes[0].clone();
+    let unseen = ObjectId(1000);
+    assert!(table.index_of(unseen).is_none());
     let mut context = TripContext::new(seed);
     context.landed.push(Landing {
         push: landed.clone(),
-        on,
+        on: unseen,
     });
     let again = policy
         .plan_trip_with(&table, &mut context)
         .unwrap()
         .value
         .expect("a trip without the push");
-    for push in again.pushes.iter().filter(|p| p.object == landed.object) {
-        let fingers = finger_footprints(
-            table.gripper(),
-            push.fork.opening,
-            &push.fork.approach,
-            &push.direction,
-        );
-        let index = table.index_of(on).unwrap();
-        assert!(
-            fingers
-                .iter()
-                .all(|f| distance(f, table.world_polygon(index)) >= 0.007)
-        );
-    }
+    assert!(again.pushes.iter().all(|p| p.object != landed.object));
     assert!(
         again
             .skipped_pushes
             .iter()
-            .any(|s| s.reason == SkipReason::LandedBefore { object: on })
+            .any(|s| s.reason == SkipReason::LandedBefore { object: unseen })
     );
     assert!(!again.grasp.objects.is_empty());
+    // Landing on an object that is seen teaches nothing new: the fingers keep clear of it anyway.
+    let mut context = TripContext::new(seed);
+    context.landed.push(Landing {
+        push: landed.clone(),
+        on: table.objects()[0].id,
+    });
+    let same = policy.plan_trip_with(&table, &mut context).unwrap().value;
+    assert_eq!(same, Some(first));
 }

@@ -22,9 +22,9 @@ class NoTrip(Exception):
 
 class TripContext:
     """What a closed loop carries between trips: the seeded random stream that picks the next cluster,
-    the jaw poses whose grasps carried nothing and the pushes whose fingers came down on another
-    object (neither tried again from practically the same place). A loop that wants the command
-    line's choices uses one context, seeded as ``pushmog plan --seed``."""
+    the jaw poses whose grasps carried nothing (not tried again in practically the same place) and
+    the pushes whose fingers came down on an object. A loop that wants the command line's choices
+    uses one context, seeded as ``pushmog plan --seed``."""
 
     __slots__ = ("_native",)
 
@@ -41,9 +41,9 @@ class TripContext:
         return json.loads(self._native.failed())
 
     def record_landing(self, trip: TripPlan, push: int, on: int) -> None:
-        """During push number ``push`` of ``trip`` a finger came down on object ``on``: that push
-        is not made again from practically the same place (the trip grasps the cluster as it lies,
-        or one object)."""
+        """During push number ``push`` of ``trip`` a finger came down on object ``on``. When that
+        object is not on the table the planner is shown (it lies outside the workspace), the pushed
+        object is not pushed again with its fingers lowered near there."""
         pushes = trip.to_dict()["pushes"]
         if not 0 <= push < len(pushes):
             raise ValueError(f"push: the trip has {len(pushes)} pushes, got index {push}")

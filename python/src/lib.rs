@@ -143,8 +143,8 @@ impl Scene {
 }
 
 /// What a closed loop remembers between trips: the random stream that picks the next cluster, the
-/// jaw poses where grasps carried nothing and the pushes whose fingers came down on another object
-/// (neither tried again from practically the same place).
+/// jaw poses where grasps carried nothing (not tried again in practically the same place) and the
+/// pushes whose fingers came down on an object.
 #[pyclass(module = "pushmog._native")]
 struct TripContext {
     context: Context,

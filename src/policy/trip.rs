@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
-use crate::geometry::{ConvexPolygon, distance};
+use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::push::fork::finger_footprints;
@@ -49,18 +49,18 @@ type PushesThenGrasp = (Vec<Push>, Grasp);
 
 /// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
 /// the jaw poses where grasps carried nothing (not tried again in practically the same place), and
-/// the pushes whose fingers came down on another object (that object is not pushed again with the
-/// fingers lowered near the one landed on).
+/// the pushes whose fingers came down on an object (if the camera cannot see it, the pushed object
+/// is not pushed again with the fingers lowered near there).
 #[derive(Clone, Debug)]
 pub struct TripContext {
     rng: SeededRng,
     /// Jaw poses of grasps that carried nothing.
     pub failed: Vec<JawPose>,
-    /// Pushes during whose descent a finger came down on another object.
+    /// Pushes during whose descent a finger came down on an object.
     pub landed: Vec<Landing>,
 }
 
-/// A push during whose descent a finger came down on another object.
+/// A push during whose descent a finger came down on an object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Landing {
     /// The push.
@@ -110,8 +110,7 @@ impl Policy {
                 Some(clusterer) => self.draft_clustered(
                     scene,
                     clusterer.as_ref(),
-                    &mut context.rng,
-                    (&context.failed, &context.landed),
+                    context,
                     &mut clustering_seconds,
                 )?,
             }
@@ -184,13 +183,12 @@ impl Policy {
     /// after the pushes offers a multi-object grasp, and every pushed object that grasp does not
     /// take could still be taken by itself there (no object is stranded); otherwise nothing is pushed
     /// and the cluster is grasped as it lies. Jaws where a grasp failed before are never proposed
-    /// again, nor pushes whose fingers would come down near an object they landed on before.
+    /// again, nor pushes whose fingers would come down near an unseen object they landed on before.
     fn draft_clustered(
         &self,
         observed: &Scene,
         clusterer: &dyn PolicyClusterer,
-        rng: &mut SeededRng,
-        (avoid, landed): (&[JawPose], &[Landing]),
+        context: &mut TripContext,
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, String>> {
         let started = Instant::now();
@@ -209,7 +207,8 @@ impl Policy {
                 "no cluster with an object narrower than the jaw gap".to_string()
             ));
         }
-        let chosen = candidates[rng.index(candidates.len())];
+        let chosen = candidates[context.rng.index(candidates.len())];
+        let (avoid, landed) = (&context.failed, &context.landed);
         let members = clustering.clusters[chosen].clone();
         let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp| TripPlan {
             clustering: clustering.clone(),
@@ -249,9 +248,9 @@ impl Policy {
 
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,
     /// when that grasp takes two or more objects and every pushed object it leaves could still be
-    /// taken by itself there (no object is stranded), and no push lowers its fingers near an object
-    /// a push of the same object `landed` on; with the pushes that were planned and not made, and
-    /// why.
+    /// taken by itself there (no object is stranded), and no push lowers its fingers near an unseen
+    /// object a push of the same object `landed` on; with the pushes that were planned and not
+    /// made, and why.
     fn push_draft(
         &self,
         pusher: &dyn PolicyPusher,
@@ -434,20 +433,18 @@ impl Policy {
     }
 }
 
-/// After a finger came down on an object, later pushes of the same object keep their lowered
-/// fingers this far from it, metres: three standard deviations of where a finger comes down
-/// relative to an object under the simulator's noise (2 mm perception and 1 mm actuation, 2.2 mm
-/// per axis together), where the fork's usual clearance (`ForkSettings::finger_clearance`, 3 mm)
-/// is about 1.3. Plans of the same push differ by more than a few millimetres from look to look
-/// (each look sees the objects anew), so the test is the clearance, not the push's place.
+/// After a finger came down on an object the camera does not see (outside the workspace), later
+/// pushes of the same object keep their lowered fingers this far from where the fingers came down,
+/// metres: three standard deviations of where a finger comes down under the simulator's noise (2 mm
+/// perception and 1 mm actuation, 2.2 mm per axis together). Plans of the same push differ by a
+/// few millimetres from look to look, since each look sees the objects anew.
 const LANDED_CLEARANCE: f64 = 0.007;
 
 /// Whether `push` pushes the object of `landing` with its fingers lowered within
-/// [`LANDED_CLEARANCE`] of the object a finger came down on then, as it lies on `observed`; or, when
-/// that object is not seen (it lies outside the workspace, where the camera does not look), within
-/// that distance of where the fingers came down then.
+/// [`LANDED_CLEARANCE`] of where they came down then, on an object that `observed` does not show.
+/// An object that is seen is kept clear as any other (`ForkSettings::finger_clearance`).
 fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
-    if push.object != landing.push.object {
+    if push.object != landing.push.object || observed.index_of(landing.on).is_some() {
         return false;
     }
     let gripper = observed.gripper();
@@ -459,17 +456,12 @@ fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
             &push.direction,
         )
     };
-    let near = |obstacles: &[ConvexPolygon]| {
-        fingers(push).iter().any(|finger| {
-            obstacles
-                .iter()
-                .any(|obstacle| distance(finger, obstacle) < LANDED_CLEARANCE)
-        })
-    };
-    match observed.index_of(landing.on) {
-        Some(on) => near(std::slice::from_ref(observed.world_polygon(on))),
-        None => near(&fingers(&landing.push)),
-    }
+    let before = fingers(&landing.push);
+    fingers(push).iter().any(|finger| {
+        before
+            .iter()
+            .any(|landed| distance(finger, landed) < LANDED_CLEARANCE)
+    })
 }
 
 pub(super) fn failure_reason(status: &Status) -> String {

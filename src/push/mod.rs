@@ -90,9 +90,9 @@ pub enum SkipReason {
     /// Planned, but after the pushes some pushed object could not be taken by itself if the
     /// multi-object grasp failed, so they were not made.
     DeadEnd,
-    /// Planned, but when this object was pushed before in the run a finger came down on another
-    /// object, and this push would lower the fingers near that object again, so the pushes were not
-    /// made.
+    /// Planned, but when this object was pushed before in the run a finger came down on an object
+    /// the camera does not see (outside the workspace), and this push would lower the fingers near
+    /// there again, so the pushes were not made.
     LandedBefore {
         /// The object the finger came down on then.
         object: ObjectId,
