@@ -5,9 +5,10 @@ use nalgebra::Vector2;
 use pushmog::cluster::{Clusterer, Hierarchical};
 use pushmog::geometry::distance;
 use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
+use pushmog::outcome::Outcome;
 use pushmog::plan::Status;
 use pushmog::push::{
-    PushPlanner, RowJudge, SkipReason, Socp, SocpSettings, TowardCentral, predict,
+    PushPlan, PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, predict,
 };
 use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
 
@@ -17,6 +18,13 @@ fn squares(side: f64, at: &[(f64, f64)]) -> Scene {
 
 fn ids(n: u32) -> Vec<ObjectId> {
     (0..n).map(ObjectId).collect()
+}
+
+/// The default SOCP's plan for objects `0..n` of `scene`, which must be a best-found row.
+fn best_row(scene: &Scene, n: u32) -> Outcome<PushPlan> {
+    let outcome = Socp::default().plan(scene, &ids(n)).unwrap();
+    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    outcome
 }
 
 #[test]
@@ -203,8 +211,7 @@ fn a_member_beside_its_neighbour_slides_along_then_across_into_the_row() {
     // fits the jaws (30 + 30 + 1 mm; along y 81 mm, and 3° off x already 65.1 mm), so one must come
     // down beside the other, and a straight push there drags its corner through the other's.
     let scene = boxes(0.03, 0.04, &[(0.30, 0.25), (0.31, 0.20)]);
-    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
-    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    let outcome = best_row(&scene, 2);
     let pushes = &outcome.value.pushes;
     let mover = pushes[0].object;
     assert!(
@@ -243,8 +250,7 @@ fn members_each_nearly_in_place_still_close_a_row_too_wide() {
     // between the two, 2 mm each is below `min_push` (3 mm), and holding both left the row as it
     // was; held one at a time, the other is pushed the whole 4 mm.
     let scene = squares(0.03, &[(0.2, 0.2), (0.239, 0.2)]);
-    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
-    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    let outcome = best_row(&scene, 2);
     let pushes = &outcome.value.pushes;
     assert_eq!(pushes.len(), 1, "{pushes:?}");
     assert!(
@@ -264,8 +270,7 @@ fn the_member_nearer_the_workspace_edge_is_the_one_pushed() {
     // may make the whole 65 mm push in the same time; pushing the second up to the first could
     // shove it out of the workspace, so the first is pushed, inward, and the second stays.
     let scene = squares(0.03, &[(0.018, 0.2), (0.118, 0.2)]);
-    let outcome = Socp::default().plan(&scene, &ids(2)).unwrap();
-    assert_eq!(outcome.status, Status::BestFound, "{:?}", outcome.status);
+    let outcome = best_row(&scene, 2);
     let pushes = &outcome.value.pushes;
     assert!(
         !pushes.is_empty() && pushes.iter().all(|p| p.object == ObjectId(0)),
@@ -284,19 +289,19 @@ fn rows_held_under_noise_are_grasped_by_the_multi_object_planner() {
     // error included) carries every member at the intended jaws often enough. That planner, asked
     // on the predicted table, then finds a grasp of two or more objects.
     let multi = MultiObject::default();
-    let judge = RowJudge {
-        outcome: multi.outcome(),
-        samples: multi.settings().samples,
-        min_probability: multi.settings().min_probability,
-    };
     let robust = Socp::new(SocpSettings {
         robust_rows: true,
         ..SocpSettings::default()
     })
     .unwrap()
-    .with_judge(judge.clone());
+    .with_judge(multi.clone());
     // The same judge with the setting off: rows judged by the grasp model alone.
-    let nominal = Socp::default().with_judge(judge);
+    let nominal = Socp::new(SocpSettings {
+        robust_rows: false,
+        ..SocpSettings::default()
+    })
+    .unwrap()
+    .with_judge(multi.clone());
     let (mut clusters, mut held, mut held_nominal) = (0, 0, 0);
     for seed in 0..4 {
         let scene =

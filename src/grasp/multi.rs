@@ -38,7 +38,7 @@ use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use super::model::{GraspModel, Squeeze, row_in_scene, squeeze};
-use super::outcome::{GraspOutcome, ModelOutcome, Noise};
+use super::outcome::{GraspOutcome, ModelOutcome, Noise, failures_allowed};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
@@ -206,9 +206,24 @@ impl MultiObject {
         Ok(Self { settings, outcome })
     }
 
-    /// The outcome model.
-    pub fn outcome(&self) -> Arc<dyn GraspOutcome> {
-        Arc::clone(&self.outcome)
+    /// Whether the outcome model, judging `jaws` on `scene` (the objects `pushed` with their push
+    /// error), carries every object of `members` (scene indices) in at least `min_probability` of
+    /// the samples: the test a candidate must pass to be used, asked of one pose.
+    pub fn carries(
+        &self,
+        scene: &Scene,
+        jaws: &JawPose,
+        pushed: &[usize],
+        members: &[usize],
+    ) -> bool {
+        let samples = self.settings.samples.max(1);
+        let minimum = self.settings.min_probability;
+        let judgement = self
+            .outcome
+            .judge(scene, jaws, pushed, failures_allowed(minimum, samples));
+        matches!(&judgement.nominal, Squeeze::Held { objects, .. }
+            if members.iter().all(|m| objects.contains(m)))
+            && judgement.probability() >= minimum
     }
 
     /// The outcome model's name.
@@ -475,7 +490,7 @@ impl MultiObject {
             let floor = best.as_ref().map_or(settings.min_probability, |(p, _)| {
                 settings.min_probability.max(*p)
             });
-            let max_failures = ((1.0 - floor) * samples as f64 + 1e-9).floor() as usize;
+            let max_failures = failures_allowed(floor, samples);
             let judgement = self
                 .outcome
                 .judge(scene, &candidate.jaws, &pushed, max_failures);

@@ -263,6 +263,11 @@ impl GraspOutcome for ModelOutcome {
     }
 }
 
+/// How many of `samples` may fail while the share carried still reaches `probability`.
+pub fn failures_allowed(probability: f64, samples: usize) -> usize {
+    ((1.0 - probability) * samples as f64 + 1e-9).floor() as usize
+}
+
 /// A seed from a jaw pose and a sample number (SplitMix64 over the pose's bits).
 pub fn sample_seed(jaws: &JawPose, sample: usize) -> u64 {
     let mut state = jaws.center.x.to_bits()

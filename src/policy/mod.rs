@@ -40,7 +40,7 @@ use crate::grasp::{
 };
 use crate::plan::Plan;
 use crate::push::{
-    ForkSettings, PushPlanner, RowJudge, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
+    ForkSettings, PushPlanner, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
 };
 use crate::scene::{ObjectId, Scene};
 use crate::time_model::TimeModel;
@@ -429,13 +429,9 @@ impl PolicyBuilder {
                     Some(Arc::new(TowardCentral::new(settings.pushing.clone())?)
                         as Arc<dyn PolicyPusher>)
                 }
-                PusherKind::Socp => Some(Arc::new(Socp::new(settings.socp.clone())?.with_judge(
-                    RowJudge {
-                        outcome: multi.outcome(),
-                        samples: settings.multi.samples,
-                        min_probability: settings.multi.min_probability,
-                    },
-                )) as _),
+                PusherKind::Socp => {
+                    Some(Arc::new(Socp::new(settings.socp.clone())?.with_judge(multi.clone())) as _)
+                }
             },
         };
         Ok(Policy {

@@ -24,7 +24,7 @@ use crate::scene::{ObjectId, Pose, Scene};
 pub use central::{TowardCentral, TowardCentralSettings};
 pub use fork::{ForkPush, ForkSettings, push_height};
 pub use predict::predict;
-pub use socp::{RowJudge, Socp, SocpSettings};
+pub use socp::{Socp, SocpSettings};
 
 /// One planned fork push: an object translated along a straight line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

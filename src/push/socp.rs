@@ -15,7 +15,7 @@
 //!    straight push is refused may take two legs, across the closing axis and along it;
 //! 3. the row is judged at its intended grasp: with `robust_rows` (default) as the policy's
 //!    multi-object planner judges grasps, on the predicted table and on noisy copies of it
-//!    ([`RowJudge`]); otherwise by the grasp model alone (held, or a member slips out).
+//!    ([`MultiObject::carries`]); otherwise by the grasp model alone (held, or a member slips out).
 //!
 //! The search, with `prefer_held_rows` (default), looks for the cheapest held row: every axis is
 //! visited, first those along which a perfect row of the members is held by the grasp model (a cheap
@@ -32,7 +32,6 @@
 //! straight sweep then stays on its side.
 
 use std::cell::Cell;
-use std::sync::Arc;
 use std::time::Instant;
 
 use clarabel::solver::SolverStatus;
@@ -44,7 +43,7 @@ use super::row::{Fence, RowProblem, RowSolution, lower_bound, solve_row};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
-use crate::grasp::{Body, GraspModel, GraspOutcome, JawPose, Memory, Squeeze, squeeze};
+use crate::grasp::{Body, GraspModel, JawPose, Memory, MultiObject, Squeeze, squeeze};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::{ObjectId, Pose, Scene};
 use crate::time_model::TimeModel;
@@ -173,20 +172,8 @@ pub struct Socp {
     /// Closings of perfect rows already judged (`grasp/memory.rs`): the same cluster is planned
     /// again on later trips.
     memory: Memory,
-    /// The policy's judge of grasps under noise, used when `robust_rows` is set.
-    judge: Option<RowJudge>,
-}
-
-/// How rows are judged under noise: the multi-object planner's outcome model, its samples per
-/// candidate and the least probability it uses a grasp at.
-#[derive(Clone, Debug)]
-pub struct RowJudge {
-    /// The outcome model.
-    pub outcome: Arc<dyn GraspOutcome>,
-    /// Samples per judged grasp, the predicted table first.
-    pub samples: usize,
-    /// Least estimated probability that every member is carried.
-    pub min_probability: f64,
+    /// The policy's multi-object planner, judging rows under noise when `robust_rows` is set.
+    judge: Option<MultiObject>,
 }
 
 /// A solved row turned into pushes.
@@ -212,9 +199,9 @@ impl Socp {
         })
     }
 
-    /// The same planner judging rows with `judge` when `robust_rows` is set (the policies give it
-    /// their multi-object planner's outcome model).
-    pub fn with_judge(mut self, judge: RowJudge) -> Self {
+    /// The same planner judging rows as `judge` judges its grasps ([`MultiObject::carries`]) when
+    /// `robust_rows` is set (the policies give it their multi-object planner).
+    pub fn with_judge(mut self, judge: MultiObject) -> Self {
         self.judge = Some(judge);
         self
     }
@@ -366,23 +353,16 @@ impl Socp {
         let Ok(after) = predict(scene, pushes) else {
             return false;
         };
-        let carries_all = |nominal: &Squeeze| {
-            matches!(nominal, Squeeze::Held { objects, .. }
-                if members.iter().all(|m| objects.contains(m)))
-        };
         match self.judge.as_ref().filter(|_| self.settings.robust_rows) {
             Some(judge) => {
                 let pushed: Vec<usize> = pushes
                     .iter()
                     .filter_map(|p| after.index_of(p.object))
                     .collect();
-                let samples = judge.samples.max(1);
-                let max_failures =
-                    ((1.0 - judge.min_probability) * samples as f64 + 1e-9).floor() as usize;
-                let judgement = judge.outcome.judge(&after, jaws, &pushed, max_failures);
-                carries_all(&judgement.nominal) && judgement.probability() >= judge.min_probability
+                judge.carries(&after, jaws, &pushed, members)
             }
-            None => carries_all(&squeeze(&after, jaws, &self.settings.model)),
+            None => matches!(squeeze(&after, jaws, &self.settings.model),
+                Squeeze::Held { objects, .. } if members.iter().all(|m| objects.contains(m))),
         }
     }
 
