@@ -300,3 +300,57 @@ fn a_workspace_with_three_numbers_is_refused() {
     let err = pushmog::experiment::ExperimentConfig::from_toml(&text, "bad").unwrap_err();
     assert!(err.to_string().contains("exactly 2"), "{err}");
 }
+
+#[test]
+fn a_logged_simulated_run_is_replayed_by_pushmog_run_with_its_run_seed() {
+    let dir = scratch("experiment-replay");
+    let mut config = config("sim");
+    // The command line's default workspace, as `pushmog scene generate` makes it.
+    config.scenes.keep_density = false;
+    let log = dir.join("log.jsonl");
+    let mut options = options(&log, (3, 6), None);
+    options.jobs = 1;
+    run_experiment(&config, Path::new("."), &options).unwrap();
+    let rows = read_log(&log).unwrap().rows;
+    assert_eq!(rows.len(), 1);
+    let row = &rows[0];
+    assert_eq!(row.policy, "push-mog");
+    let scene = dir.join("scene.json");
+    let seed = row.scene_seed.to_string();
+    let generated = pushmog(&[
+        "scene",
+        "generate",
+        "--objects",
+        "8",
+        "--seed",
+        &seed,
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    assert!(generated.status.success());
+    let run_seed = row.run_seed.to_string();
+    let replayed = pushmog(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--policy",
+        "push-mog",
+        "--executor",
+        "sim",
+        "--seed",
+        &run_seed,
+    ]);
+    assert!(replayed.status.success());
+    let text = String::from_utf8(replayed.stdout).unwrap();
+    let expected_trips = format!("trips             {}\n", row.trips);
+    let expected_carried = format!("{} carried", row.carried);
+    let expected_pushes = format!(
+        "pushes            {} ({:.3} m",
+        row.pushes, row.push_distance
+    );
+    for expected in [&expected_trips, &expected_carried, &expected_pushes] {
+        assert!(
+            text.contains(expected.as_str()),
+            "{expected:?} not in\n{text}"
+        );
+    }
+}

@@ -56,7 +56,12 @@ pub fn run_one(
     let policy = config.policies[spec.policy].policy(settings)?;
     let mut executor: Box<dyn Executor> = match config.executor.kind {
         ExecutorKind::Ideal => Box::new(policy.ideal()),
-        ExecutorKind::Sim => Box::new(Sim::new(config.sim_settings(spec.friction), spec.run_seed)?),
+        // The simulator's seed follows the run seed as in `pushmog run --seed` and Python's
+        // `Planner.run`, so any logged run can be replayed there with its `run_seed`.
+        ExecutorKind::Sim => Box::new(Sim::new(
+            config.sim_settings(spec.friction),
+            Sim::seed_for_run(spec.run_seed),
+        )?),
     };
     let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
     let (cleared, stop_reason, remaining) = match &plan.status {
