@@ -162,6 +162,90 @@ fn stranded_bars_are_cleared_without_identical_retries() {
     }
 }
 
+/// A triangle and a truncated rectangle that the paper's pushes left touching (seed 130, after a
+/// push of 40 mm): no plate fits between them, so neither can be taken by itself, and the grasp
+/// model refuses them together. The pushing policies clear the table, with plans applied exactly and
+/// in the simulator; applied exactly, they first push one of them clear with the jaws closed. `sog`
+/// and `mog`, which do not push, stop there when plans are applied exactly.
+#[test]
+fn objects_stuck_together_are_pushed_apart() {
+    use nalgebra::Point2;
+    use pushmog::exec::{Executor, Sim, SimSettings};
+    use pushmog::geometry::ConvexPolygon;
+    use pushmog::scene::{Gripper, Object, ObjectId, Pose, Workspace};
+    let outline = |points: &[(f64, f64)]| {
+        ConvexPolygon::new(points.iter().map(|&(x, y)| Point2::new(x, y)).collect()).unwrap()
+    };
+    let triangle = outline(&[
+        (-0.015, -0.008660254),
+        (0.015, -0.008660254),
+        (0.0, 0.017320508),
+    ]);
+    let octagon = outline(&[
+        (-0.014, -0.013),
+        (0.014, -0.013),
+        (0.02, -0.007),
+        (0.02, 0.007),
+        (0.014, 0.013),
+        (-0.014, 0.013),
+        (-0.02, 0.007),
+        (-0.02, -0.007),
+    ]);
+    let objects = vec![
+        Object {
+            id: ObjectId(3),
+            name: Some("triangle-equilateral-30".to_string()),
+            polygon: triangle,
+            pose: Pose::new(0.3418560258541743, 0.34995766131701783, -2.3556059341399953),
+            height: 0.03,
+            mass: None,
+        },
+        Object {
+            id: ObjectId(28),
+            name: Some("octagon-truncated-rectangle".to_string()),
+            polygon: octagon,
+            pose: Pose::new(0.3351475195960326, 0.32233342244966756, -1.1258191577149619),
+            height: 0.03,
+            mass: None,
+        },
+    ];
+    let scene = Scene::from_parts(Workspace::new(0.6, 0.45), Gripper::default(), objects).unwrap();
+    for kind in PolicyKind::ALL {
+        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+        let mut ideal = policy.ideal();
+        let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
+        for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
+            let plan = policy.run(&scene, executor, 1).unwrap();
+            assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
+            if matches!(kind, PolicyKind::Sog | PolicyKind::Mog) {
+                assert!(
+                    !matches!(plan.status, RunStatus::Cleared) || plan.executor == "sim",
+                    "{kind}: cleared without pushing"
+                );
+                continue;
+            }
+            assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
+            let openings: Vec<f64> = plan.trips[0]
+                .pushes
+                .iter()
+                .map(|p| p.fork.opening)
+                .collect();
+            println!(
+                "{kind} {}: first trip's push openings {openings:?}",
+                plan.executor
+            );
+            if plan.executor == "ideal" {
+                assert!(
+                    openings
+                        .first()
+                        .is_some_and(|&o| o < scene.gripper().fork_push_opening()),
+                    "{kind}: the first trip pushes nothing apart"
+                );
+            }
+        }
+    }
+}
+
 /// A robot stack that owns its loop: it asks `plan_trip_with` for each trip, carries it out its own
 /// way (pushes exactly, grasps as the grasp model says), and its camera sees the table again with
 /// 1 mm and 0.6° of noise. The table is cleared, and every trip it was given verifies.

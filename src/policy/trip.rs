@@ -20,11 +20,13 @@ use serde::{Deserialize, Serialize};
 use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
+use nalgebra::Vector2;
+
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::push::fork::finger_footprints;
-use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
+use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict, separating_push};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
 
@@ -46,6 +48,19 @@ pub struct TripPlan {
 
 /// Pushes to make, in order, and the grasp planned on the table predicted after them.
 type PushesThenGrasp = (Vec<Push>, Grasp);
+
+/// Lengths tried, shortest first, for a push that separates an object from the neighbour it is stuck
+/// against, metres: a 10 mm plate and the single-object planner's clearance on either side need
+/// about 20 mm; longer ones for neighbours that are not square to the push.
+pub const SEPARATIONS: [f64; 3] = [0.02, 0.03, 0.045];
+
+/// Directions tried for a separating push: this many around the full turn, of which those that do not
+/// run into the neighbour are used.
+const SEPARATION_DIRECTIONS: usize = 16;
+
+/// Least room left between a separated object and the workspace's edge, metres (the SOCP's default
+/// edge margin).
+const SEPARATION_EDGE_MARGIN: f64 = 0.005;
 
 /// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
 /// the jaw poses where grasps carried nothing (not tried again in practically the same place), and
@@ -236,14 +251,83 @@ impl Policy {
             return Ok(Ok(draft(Vec::new(), skipped, grasp)));
         }
         let single = self.single.plan_avoiding(observed, &members, avoid)?;
-        Ok(match single.value {
-            Some(grasp) => Ok(draft(Vec::new(), skipped, grasp)),
-            None => Err(format!(
-                "cluster {:?}: {}",
-                members.iter().map(|id| id.0).collect::<Vec<_>>(),
-                failure_reason(&single.status)
-            )),
-        })
+        if let Some(grasp) = single.value {
+            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
+        }
+        // Members too close to be taken alone or together: push one clear of its neighbour.
+        if self.pusher.is_some()
+            && let Some((push, grasp)) = self.separate(observed, &members, avoid)?
+        {
+            return Ok(Ok(draft(vec![push], skipped, grasp)));
+        }
+        Ok(Err(format!(
+            "cluster {:?}: {}",
+            members.iter().map(|id| id.0).collect::<Vec<_>>(),
+            failure_reason(&single.status)
+        )))
+    }
+
+    /// A push that moves one of `members` straight away from the object nearest it
+    /// ([`separating_push`], the shortest of [`SEPARATIONS`] that works), and a grasp of that object
+    /// or its neighbour by itself on the table predicted after the push; `None` when no member can
+    /// be freed so. The way out when objects stand too close for a plate between them and the grasp
+    /// model refuses them together (a dead end the paper's pushes, which end with objects touching,
+    /// can leave).
+    fn separate(
+        &self,
+        observed: &Scene,
+        members: &[ObjectId],
+        avoid: &[JawPose],
+    ) -> Result<Option<(Push, Grasp)>> {
+        for &id in members {
+            let Some(index) = observed.index_of(id) else {
+                continue;
+            };
+            let outline = observed.world_polygon(index);
+            let Some(neighbour) = (0..observed.len())
+                .filter(|&j| j != index)
+                .min_by(|&a, &b| {
+                    distance(outline, observed.world_polygon(a))
+                        .total_cmp(&distance(outline, observed.world_polygon(b)))
+                })
+            else {
+                continue;
+            };
+            let freed = [id, observed.objects()[neighbour].id];
+            let away = (observed.centroid(index) - observed.centroid(neighbour)).normalize();
+            // Directions that do not run into the neighbour, nearest straight away first.
+            let mut directions: Vec<(f64, Vector2<f64>)> = (0..SEPARATION_DIRECTIONS)
+                .map(|k| {
+                    let turn = std::f64::consts::TAU * k as f64 / SEPARATION_DIRECTIONS as f64;
+                    let (sin, cos) = turn.sin_cos();
+                    let direction =
+                        Vector2::new(away.x * cos - away.y * sin, away.x * sin + away.y * cos);
+                    (-cos, direction)
+                })
+                .filter(|(_, direction)| direction.dot(&away) >= -1e-9)
+                .collect();
+            directions.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for travel in SEPARATIONS {
+                for (_, direction) in &directions {
+                    let Ok(push) = separating_push(
+                        observed,
+                        &self.settings.fork,
+                        (index, neighbour),
+                        direction,
+                        travel,
+                        SEPARATION_EDGE_MARGIN,
+                    ) else {
+                        continue;
+                    };
+                    let predicted = predict(observed, std::slice::from_ref(&push))?;
+                    if let Some(grasp) = self.single.plan_avoiding(&predicted, &freed, avoid)?.value
+                    {
+                        return Ok(Some((push, grasp)));
+                    }
+                }
+            }
+        }
+        Ok(None)
     }
 
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,

@@ -201,12 +201,35 @@ pub fn plan_fork(
     push: &Vector2<f64>,
     distance: f64,
 ) -> std::result::Result<ForkPush, SkipReason> {
+    let opening = gripper.fork_push_opening();
+    plan_push_with_opening(
+        gripper, settings, world, ids, pushed, height, push, distance, opening,
+    )
+}
+
+/// As [`plan_fork`], with the jaws open to `opening` (between the plates' centres) rather than the
+/// fork opening: [`Gripper::plate_thickness`] plus a little is the closed gripper pushing as one
+/// narrow block, which fits where a fork does not.
+///
+/// # Errors
+/// As [`plan_fork`].
+#[allow(clippy::too_many_arguments)]
+pub fn plan_push_with_opening(
+    gripper: &Gripper,
+    settings: &ForkSettings,
+    world: &[ConvexPolygon],
+    ids: &[ObjectId],
+    pushed: usize,
+    height: f64,
+    push: &Vector2<f64>,
+    distance: f64,
+    opening: f64,
+) -> std::result::Result<ForkPush, SkipReason> {
     let object = &world[pushed];
     let centroid = object.centroid();
     let Some(tip_height) = push_height(settings, object, height) else {
         return Err(SkipReason::WouldTip);
     };
-    let opening = gripper.fork_push_opening();
     let reach = object.radius_about(&centroid) + gripper.plate_length + opening + 0.01;
     let far = centroid - push * reach;
     let touch = finger_footprints(gripper, opening, &far, push)

@@ -6,12 +6,14 @@
 //! the fingers without turning much. [`fork`] holds that geometry and its collision checks;
 //! [`TowardCentral`] is the paper's Algorithm 3; [`Socp`] places targets by a second-order cone
 //! program of least total push distance (`formulations/pushing.md`); [`predict`] moves objects to their
-//! targets, as the paper does to plan the grasp before executing the pushes.
+//! targets, as the paper does to plan the grasp before executing the pushes; [`separating_push`]
+//! moves an object away from a neighbour it is stuck against, so one of them can be taken alone.
 
 mod central;
 pub mod fork;
 mod predict;
 mod row;
+mod separate;
 mod socp;
 
 use nalgebra::{Point2, Vector2};
@@ -24,6 +26,7 @@ use crate::scene::{ObjectId, Pose, Scene};
 pub use central::{TowardCentral, TowardCentralSettings};
 pub use fork::{ForkPush, ForkSettings, push_height};
 pub use predict::predict;
+pub use separate::separating_push;
 pub use socp::{Socp, SocpSettings};
 
 /// One planned fork push: an object translated along a straight line.
@@ -97,6 +100,9 @@ pub enum SkipReason {
         /// The object the finger came down on then.
         object: ObjectId,
     },
+    /// A push to separate the object from a neighbour it is stuck against would meet another object,
+    /// or leave it too near the workspace's edge.
+    NoRoomToSeparate,
 }
 
 impl std::fmt::Display for SkipReason {
@@ -117,6 +123,7 @@ impl std::fmt::Display for SkipReason {
                 "a finger came down on object {object} when pushed before"
             ),
             Self::DeadEnd => write!(f, "it could not be taken alone after the pushes"),
+            Self::NoRoomToSeparate => write!(f, "no clear path to push it away from its neighbour"),
         }
     }
 }
