@@ -9,7 +9,7 @@ use pushmog::grasp::{
 };
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
-use pushmog::push::{PushPlanner, TowardCentral, predict};
+use pushmog::push::{PushPlanner, TowardCentral, TowardCentralSettings, predict};
 use pushmog::scene::{
     GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
     generate_scene,
@@ -196,25 +196,33 @@ fn two_squares_side_by_side_are_held_together() {
 }
 
 #[test]
-fn pushes_toward_the_central_object_stop_short_of_it() {
+fn pushes_toward_the_central_object_end_touching_it_or_a_set_gap_short() {
     let s = scene(vec![
         object(0, square(0.03), 0.20, 0.2),
         object(1, square(0.03), 0.26, 0.2),
         object(2, square(0.03), 0.32, 0.2),
     ]);
     let ids = [ObjectId(0), ObjectId(1), ObjectId(2)];
-    let plan = TowardCentral::default().plan(&s, &ids).unwrap().value;
-    // Object 1 is central; both others move 28 mm toward it (30 mm free minus the 2 mm gap).
-    assert_eq!(plan.pushes.len(), 2, "{plan:?}");
-    for push in &plan.pushes {
-        assert!((push.distance - 0.028).abs() < 1e-6, "{}", push.distance);
+    // Object 1 is central; both others move toward it: the whole 30 mm of free travel by default,
+    // 28 mm with a 2 mm gap.
+    let gapped = TowardCentral::new(TowardCentralSettings {
+        stop_gap: 0.002,
+        ..TowardCentralSettings::default()
+    })
+    .unwrap();
+    for (pusher, travel) in [(TowardCentral::default(), 0.03), (gapped, 0.028)] {
+        let plan = pusher.plan(&s, &ids).unwrap().value;
+        assert_eq!(plan.pushes.len(), 2, "{plan:?}");
+        for push in &plan.pushes {
+            assert!((push.distance - travel).abs() < 1e-6, "{}", push.distance);
+        }
+        let after = predict(&s, &plan.pushes).unwrap();
+        let x: Vec<f64> = after.objects().iter().map(|o| o.pose.x).collect();
+        assert!(
+            (x[0] - (0.2 + travel)).abs() < 1e-6 && (x[2] - (0.32 - travel)).abs() < 1e-6,
+            "{x:?}"
+        );
     }
-    let after = predict(&s, &plan.pushes).unwrap();
-    let x: Vec<f64> = after.objects().iter().map(|o| o.pose.x).collect();
-    assert!(
-        (x[0] - 0.228).abs() < 1e-6 && (x[2] - 0.292).abs() < 1e-6,
-        "{x:?}"
-    );
 }
 
 #[test]

@@ -207,8 +207,8 @@ fn three_equilateral_triangles_are_never_attempted_together() {
 
 #[test]
 fn a_fork_push_leaves_the_object_near_its_target() {
-    // Tolerance stated: 5 mm in position and 10° in yaw after a push of 40–60 mm on a table with
-    // friction 0.3, for a square, a triangle and a hexagon.
+    // Tolerance stated: 5 mm in position and 10° in yaw after a push of 40–75 mm that ends with the
+    // object touching the other, on a table with friction 0.3, for a square, a triangle and a hexagon.
     let hexagon = polygon(
         &(0..6)
             .map(|k| {
@@ -229,7 +229,7 @@ fn a_fork_push_leaves_the_object_near_its_target() {
             .value;
         let push = plan.pushes.first().expect("one push");
         assert!(
-            push.distance > 0.04 && push.distance < 0.07,
+            push.distance > 0.04 && push.distance < 0.075,
             "{}",
             push.distance
         );

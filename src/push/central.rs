@@ -4,12 +4,13 @@
 //! The central object `m` is the one whose centroid is nearest the mean `M_c` of the cluster's
 //! centroids. Every other object `o`, nearest first, is pushed along `u = (M_m − M_o)/‖M_m − M_o‖`
 //! with the fingers behind it ([`fork`](super::fork)), so the push line runs through its centroid and
-//! the contact lies on its far side. The paper shortens the push so the object ends close to but not
-//! into the central object; pushmog measures the free travel `t*` along `u` before the object would
-//! touch *any* object as it stands at that moment of the sequence (the central object, an object of the
-//! cluster already pushed, or anything else) and pushes `t* − stop_gap`. When the first object in the
-//! way is outside the cluster, the push is skipped with that reason; pushes shorter than `min_push`
-//! are skipped as already in place.
+//! the contact lies on its far side. The paper pushes the cluster's objects until they touch, shortening
+//! each push so the object does not run into the central object; pushmog measures the free travel `t*`
+//! along `u` before the object would touch *any* object as it stands at that moment of the sequence
+//! (the central object, an object of the cluster already pushed, or anything else) and pushes
+//! `t* − stop_gap`, by default `t*`: the object stops where it meets the first one. When the first
+//! object in the way is outside the cluster, the push is skipped with that reason; pushes shorter than
+//! `min_push` are skipped as already in place.
 
 use std::time::Instant;
 
@@ -27,7 +28,9 @@ use crate::scene::{ObjectId, Pose, Scene};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowardCentralSettings {
-    /// Gap left between a pushed object and the first object it would touch, metres. Default 0.002.
+    /// Gap left between a pushed object and the first object it would touch, metres. Default 0: the
+    /// objects end touching, as in the paper. On 100 simulated scenes a 2 mm gap carried 0.038 fewer
+    /// objects per trip (`formulations/pushing.md`).
     pub stop_gap: f64,
     /// Pushes shorter than this are not made, metres. Default 0.003. In a policy's settings it is
     /// set once for every stage (`PolicySettings::min_push`).
@@ -42,7 +45,7 @@ pub struct TowardCentralSettings {
 impl Default for TowardCentralSettings {
     fn default() -> Self {
         Self {
-            stop_gap: 0.002,
+            stop_gap: 0.0,
             min_push: 0.003,
             fork: ForkSettings::default(),
         }
