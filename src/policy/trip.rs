@@ -15,13 +15,12 @@
 
 use std::time::Instant;
 
+use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
-use nalgebra::Vector2;
-
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
@@ -52,7 +51,7 @@ type PushesThenGrasp = (Vec<Push>, Grasp);
 /// Lengths tried, shortest first, for a push that separates an object from the neighbour it is stuck
 /// against, metres: a 10 mm plate and the single-object planner's clearance on either side need
 /// about 20 mm; longer ones for neighbours that are not square to the push.
-pub const SEPARATIONS: [f64; 3] = [0.02, 0.03, 0.045];
+const SEPARATIONS: [f64; 3] = [0.02, 0.03, 0.045];
 
 /// Directions tried for a separating push: this many around the full turn, of which those that do not
 /// run into the neighbour are used.
@@ -267,8 +266,9 @@ impl Policy {
         )))
     }
 
-    /// A push that moves one of `members` straight away from the object nearest it
-    /// ([`separating_push`], the shortest of [`SEPARATIONS`] that works), and a grasp of that object
+    /// A push that moves one of `members` away from the object nearest it ([`separating_push`], the
+    /// shortest of [`SEPARATIONS`] that works, in the first of the directions that do not point into
+    /// that object, nearest straight away first), and a grasp of that object
     /// or its neighbour by itself on the table predicted after the push; `None` when no member can
     /// be freed so. The way out when objects stand too close for a plate between them and the grasp
     /// model refuses them together (a dead end the paper's pushes, which end with objects touching,

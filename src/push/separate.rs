@@ -7,11 +7,11 @@
 //! into its neighbour `n` (`u · (M_o − M_n) ≥ 0`: away from it or sliding along it), with the jaws
 //! closed to one narrow block (a fork would put a finger on `n`) and otherwise the checks of every
 //! other push ([`plan_push_with_opening`]). Straight away from `n` the fingers would have to come down
-//! between the two, so the caller tries several directions. The push is
-//! refused when the object would meet anything on its way (`n` included: it is checked every half
-//! millimetre, since the two may start touching) or end with less than `edge_margin` between its
-//! bounding box and the workspace's edges. Whether `s` was enough is for the caller to judge on the
-//! table predicted after the push (the policy asks its single-object planner).
+//! between the two, so the caller tries several directions. The push is refused when the object would
+//! meet anything on its way (`n` included: it is checked every half millimetre, since the two may
+//! start touching) or end with less than `edge_margin` between its bounding box and the workspace's
+//! edges. Whether `s` was enough is for the caller to judge on the table predicted after the push (the
+//! policy asks its single-object planner).
 
 use nalgebra::Vector2;
 
@@ -20,8 +20,9 @@ use super::{Push, SkipReason};
 use crate::geometry::{ConvexPolygon, cast_distance, penetration_depth};
 use crate::scene::{Pose, Scene};
 
-/// A fork push of `scene`'s object at index `object` by `distance` along the unit vector `direction`,
-/// which must not point into the object at index `from` it is to be separated from.
+/// A push, with the jaws closed, of `scene`'s object at index `object` by `distance` along the unit
+/// vector `direction`, which must not point into the object at index `from` it is to be separated
+/// from.
 ///
 /// # Errors
 /// The [`SkipReason`] when the fingers cannot be placed or moved, the object would tip, meet another
