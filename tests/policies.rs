@@ -191,23 +191,28 @@ fn objects_stuck_together_are_pushed_apart() {
         (-0.02, 0.007),
         (-0.02, -0.007),
     ]);
+    let object =
+        |id: u32, name: &str, polygon: ConvexPolygon, (x, y, yaw): (f64, f64, f64)| Object {
+            id: ObjectId(id),
+            name: Some(name.to_string()),
+            polygon,
+            pose: Pose::new(x, y, yaw),
+            height: 0.03,
+            mass: None,
+        };
     let objects = vec![
-        Object {
-            id: ObjectId(3),
-            name: Some("triangle-equilateral-30".to_string()),
-            polygon: triangle,
-            pose: Pose::new(0.3418560258541743, 0.34995766131701783, -2.3556059341399953),
-            height: 0.03,
-            mass: None,
-        },
-        Object {
-            id: ObjectId(28),
-            name: Some("octagon-truncated-rectangle".to_string()),
-            polygon: octagon,
-            pose: Pose::new(0.3351475195960326, 0.32233342244966756, -1.1258191577149619),
-            height: 0.03,
-            mass: None,
-        },
+        object(
+            3,
+            "triangle-equilateral-30",
+            triangle,
+            (0.3418560258541743, 0.34995766131701783, -2.3556059341399953),
+        ),
+        object(
+            28,
+            "octagon-truncated-rectangle",
+            octagon,
+            (0.3351475195960326, 0.32233342244966756, -1.1258191577149619),
+        ),
     ];
     let scene = Scene::from_parts(Workspace::new(0.6, 0.45), Gripper::default(), objects).unwrap();
     for kind in PolicyKind::ALL {

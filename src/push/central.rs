@@ -193,6 +193,7 @@ impl TowardCentral {
             scene.objects()[index].height,
             &direction,
             distance,
+            scene.gripper().fork_push_opening(),
         )?;
         let from = scene.objects()[index].pose;
         let moved = direction * distance;

@@ -185,36 +185,15 @@ pub fn push_height(settings: &ForkSettings, outline: &ConvexPolygon, height: f64
 const BACK_OFF_STEP: f64 = 0.001;
 
 /// Plans the gripper motion that pushes `world[pushed]` (an object `height` tall) by `distance` along
-/// the unit vector `push`. `world` holds every object's outline where it stands now, `ids` their
-/// ids.
+/// the unit vector `push`, the jaws open to `opening` between the plates' centres: the fork opening
+/// ([`Gripper::fork_push_opening`]) for a fork push, or [`Gripper::plate_thickness`] plus a little for
+/// the closed gripper pushing as one narrow block, which fits where a fork does not. `world` holds
+/// every object's outline where it stands now, `ids` their ids.
 ///
 /// # Errors
 /// The [`SkipReason`] when the fingers cannot be placed or moved, or the object would tip.
 #[allow(clippy::too_many_arguments)]
 pub fn plan_fork(
-    gripper: &Gripper,
-    settings: &ForkSettings,
-    world: &[ConvexPolygon],
-    ids: &[ObjectId],
-    pushed: usize,
-    height: f64,
-    push: &Vector2<f64>,
-    distance: f64,
-) -> std::result::Result<ForkPush, SkipReason> {
-    let opening = gripper.fork_push_opening();
-    plan_push_with_opening(
-        gripper, settings, world, ids, pushed, height, push, distance, opening,
-    )
-}
-
-/// As [`plan_fork`], with the jaws open to `opening` (between the plates' centres) rather than the
-/// fork opening: [`Gripper::plate_thickness`] plus a little is the closed gripper pushing as one
-/// narrow block, which fits where a fork does not.
-///
-/// # Errors
-/// As [`plan_fork`].
-#[allow(clippy::too_many_arguments)]
-pub fn plan_push_with_opening(
     gripper: &Gripper,
     settings: &ForkSettings,
     world: &[ConvexPolygon],

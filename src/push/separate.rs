@@ -6,7 +6,7 @@
 //! *separating push* moves object `o` by a distance `s` along a unit direction `u` that does not run
 //! into its neighbour `n` (`u · (M_o − M_n) ≥ 0`: away from it or sliding along it), with the jaws
 //! closed to one narrow block (a fork would put a finger on `n`) and otherwise the checks of every
-//! other push ([`plan_push_with_opening`]). Straight away from `n` the fingers would have to come down
+//! other push ([`plan_fork`]). Straight away from `n` the fingers would have to come down
 //! between the two, so the caller tries several directions. The push is refused when the object would
 //! meet anything on its way (`n` included: it is checked every half millimetre, since the two may
 //! start touching) or end with less than `edge_margin` between its bounding box and the workspace's
@@ -15,7 +15,7 @@
 
 use nalgebra::Vector2;
 
-use super::fork::{ForkSettings, plan_push_with_opening};
+use super::fork::{ForkSettings, plan_fork};
 use super::{Push, SkipReason};
 use crate::geometry::{ConvexPolygon, cast_distance, penetration_depth};
 use crate::scene::{Pose, Scene};
@@ -62,7 +62,7 @@ pub fn separating_push(
     }
     let ids: Vec<_> = scene.objects().iter().map(|o| o.id).collect();
     let gripper = scene.gripper();
-    let fork = plan_push_with_opening(
+    let fork = plan_fork(
         gripper,
         fork,
         &world,

@@ -461,6 +461,7 @@ impl Socp {
             scene.objects()[index].height,
             &direction,
             distance,
+            scene.gripper().fork_push_opening(),
         )?;
         Ok(Push {
             object: ids[index],
