@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The MuJoCo check of the paper's validation section: ``mujoco_loop.py`` on several generated scenes
 and policies, noise-free, with pushmog's rapier simulator on the same scenes beside it. Writes one
-JSON file per run and the tables ``mujoco-agreement.md`` and ``mujoco-agreement.tex``.
+JSON file per run and the tables ``mujoco-agreement.md`` and ``mujoco-agreement.tex``. With
+``--noise``, both engines add pushmog's perception and actuation noise (same seeds); the runs are
+``<policy>-<seed>-noisy.json`` and the tables ``mujoco-agreement-noisy.*``.
 
     python python/examples/mujoco_agreement.py --seeds 1-10 --out paper/tables --runs experiments/results/mujoco
 """
@@ -23,13 +25,13 @@ import pushmog  # noqa: E402
 
 
 def one(task: tuple) -> dict:
-    policy, seed, objects, runs = task
-    path = Path(runs) / f"{policy}-{seed}.json"
+    policy, seed, objects, runs, noise = task
+    path = Path(runs) / f"{policy}-{seed}{'-noisy' if noise else ''}.json"
     if path.exists():  # resumable: a finished run is read back
         return json.loads(path.read_text())
     scene = pushmog.generate_scene(objects, seed)
-    result = mujoco_loop.both_engines(scene, pushmog.Planner(policy), seed, False, lambda *_: None)
-    result.update(policy=policy, seed=seed, objects=objects, mujoco=mujoco.__version__, pushmog=pushmog.__version__)
+    result = mujoco_loop.both_engines(scene, pushmog.Planner(policy), seed, noise, lambda *_: None)
+    result.update(policy=policy, seed=seed, objects=objects, noise=noise, mujoco=mujoco.__version__, pushmog=pushmog.__version__)
     path.write_text(json.dumps(result, indent=2) + "\n")
     print(f"{policy} seed {seed}: MuJoCo OpT {result['objects_per_trip']:.3f}, rapier {result['rapier']['objects_per_trip']:.3f}", flush=True)
     return result
@@ -63,9 +65,10 @@ def fraction(pair: tuple, tex: bool) -> str:
     return f"{held}/{n} ({100 * held / n:.0f}{percent})" if n else "0/0"
 
 
-def tables(results: list, policies: list, first: int, last: int) -> tuple:
+def tables(results: list, policies: list, first: int, last: int, noise: bool) -> tuple:
     head = ["policy", "engine", "scenes cleared", "objects per trip", "single-object as predicted", "multi-object as predicted", "misses: landed", "misses: lost in closing or lift"]
-    md = [f"MuJoCo {mujoco.__version__} and pushmog's rapier simulator, noise-free, scenes of seeds {first}-{last}.", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    how = "with pushmog's perception and actuation noise" if noise else "noise-free"
+    md = [f"MuJoCo {mujoco.__version__} and pushmog's rapier simulator, {how}, scenes of seeds {first}-{last}.", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     tex = ["\\begin{tabular}{llrrrrrr}", "policy & engine & cleared & OpT & single & multi & landed & lost \\\\", "\\hline"]
     for policy in policies:
         runs = [r for r in results if r["policy"] == policy]
@@ -87,15 +90,17 @@ def main() -> None:
     parser.add_argument("--out", default="paper/tables")
     parser.add_argument("--runs", default="experiments/results/mujoco")
     parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--noise", action="store_true", help="perception and actuation noise as pushmog's simulator, in both engines")
     args = parser.parse_args()
     Path(args.runs).mkdir(parents=True, exist_ok=True)
     chosen = seeds(args.seeds)
-    tasks = [(p, s, args.objects, args.runs) for p in args.policies for s in chosen]
+    tasks = [(p, s, args.objects, args.runs, args.noise) for p in args.policies for s in chosen]
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         results = list(pool.map(one, tasks))
-    md, tex = tables(results, args.policies, chosen[0], chosen[-1])
-    Path(args.out, "mujoco-agreement.md").write_text(md)
-    Path(args.out, "mujoco-agreement.tex").write_text(tex)
+    md, tex = tables(results, args.policies, chosen[0], chosen[-1], args.noise)
+    name = "mujoco-agreement-noisy" if args.noise else "mujoco-agreement"
+    Path(args.out, f"{name}.md").write_text(md)
+    Path(args.out, f"{name}.tex").write_text(tex)
     print(md)
 
 

@@ -20,6 +20,10 @@ push-mog-opt: 2-object grasps held 5 of 10 without noslip, 7 of 9 with it). MuJo
 base on at most 4 contact points (a hexagon and an octagon rest on 4), so turning under a push is
 resisted at those corners rather than over the whole base.
 
+The camera sees what pushmog's simulator's camera sees: upright objects inside the workspace, and a
+toppled object lying flat on a face as a new, lower prism (its outline from above); a toppled object
+leaning on something, or one outside the workspace, is lost.
+
     python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
 """
 
@@ -239,22 +243,45 @@ class World:
         lowest = z + min(c[2] for c in corners)
         return x, y, yaw, tilt, lowest
 
+    def lying_flat(self, object_id: int) -> Optional[tuple]:
+        """A toppled prism as an overhead camera sees it when it lies flat on a face (three or more
+        corners on the table), as pushmog's simulator sees it: the outline of all its corners from
+        above (about its centroid), that centroid, and how tall it stands now. None when it leans on
+        something."""
+        body = self.body[object_id]
+        rotation = self.data.xmat[body].reshape(3, 3)
+        obj = self.objects[object_id]
+        corners = np.array([rotation @ np.array([vx, vy, vz]) for vx, vy in obj.vertices for vz in (0.0, obj.height)]) + self.data.xpos[body]
+        low, top = corners[:, 2].min(), corners[:, 2].max()
+        resting = convex_hull(corners[corners[:, 2] < low + 1e-3, :2])
+        if len(resting) < 3 or polygon_area(resting) < 1e-6:
+            return None
+        footprint = convex_hull(corners[:, :2])
+        centre = polygon_centroid(footprint)
+        return footprint - centre, centre, float(top - low)
+
     def observe(self, noise: float, rng: np.random.Generator) -> tuple:
-        """The table as seen from above: a pushmog scene of the upright objects inside the workspace,
-        and the ids lost (toppled past the simulator's topple angle, or off the workspace)."""
+        """The table as seen from above: a pushmog scene of the objects inside the workspace (a
+        toppled one lying flat seen as a new, lower prism, as in pushmog's simulator), and the ids
+        lost (toppled and leaning on something, or off the workspace)."""
         low, high = self.scene.workspace
         objects, lost = [], {}
         for object_id, obj in self.objects.items():
             if object_id in self.binned:
                 continue
             x, y, yaw, tilt, _ = self.pose(object_id)
+            vertices, height = obj.vertices, obj.height
             if tilt > self.sim["topple_angle"]:
-                lost[object_id] = "toppled"
-                continue
+                flat = self.lying_flat(object_id)
+                if flat is None:
+                    lost[object_id] = "toppled"
+                    continue
+                vertices, (x, y), height = [[float(u), float(v)] for u, v in flat[0]], flat[1], flat[2]
+                yaw = 0.0
             if noise > 0:
                 x, y = x + rng.normal(0, noise), y + rng.normal(0, noise)
                 yaw += rng.normal(0, self.sim["perception_yaw"])
-            seen = pushmog.Object(object_id, obj.vertices, pushmog.Pose(x, y, yaw), obj.height, obj.name, obj.mass)
+            seen = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
             outline = seen.world_vertices()
             if (outline < low).any() or (outline > high).any():
                 lost[object_id] = "outside the workspace"
@@ -312,6 +339,38 @@ class World:
         self.data.qvel[dof : dof + 6] = 0
         self.binned.append(object_id)
         mujoco.mj_forward(self.model, self.data)
+
+
+def convex_hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-D points, counter-clockwise, without repeated or collinear points."""
+    pts = sorted({(round(float(x), 9), round(float(y), 9)) for x, y in points})
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    def half(sequence):
+        chain: list = []
+        for p in sequence:
+            while len(chain) >= 2 and cross(chain[-2], chain[-1], p) <= 0:
+                chain.pop()
+            chain.append(p)
+        return chain[:-1]
+
+    return np.array(half(pts) + half(reversed(pts)))
+
+
+def polygon_area(vertices: np.ndarray) -> float:
+    x, y = vertices[:, 0], vertices[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
+    x, y = vertices[:, 0], vertices[:, 1]
+    cross = x * np.roll(y, -1) - np.roll(x, -1) * y
+    area = 0.5 * cross.sum()
+    return np.array([((x + np.roll(x, -1)) * cross).sum(), ((y + np.roll(y, -1)) * cross).sum()]) / (6.0 * area)
 
 
 def separated(objects: list, scene: pushmog.Scene) -> pushmog.Scene:
