@@ -54,3 +54,46 @@ def test_the_mujoco_model_is_the_scene(tmp_path):
     observed, lost = world.observe(0.0, None)
     assert not lost and len(observed) == len(scene)
     assert mujoco.mj_version() > 0
+
+
+def test_a_toppled_object_lying_flat_is_seen_as_a_lower_prism_and_one_leaning_is_lost():
+    example = load_example()
+    import math
+
+    import mujoco
+    import numpy as np
+    import pushmog
+
+    # A 20 x 40 mm block 30 mm tall, its long sides along y, at the workspace's centre.
+    base = pushmog.generate_scene(1, seed=2)
+    low, high = base.workspace
+    centre = (np.asarray(low) + np.asarray(high)) / 2
+    block = pushmog.Object(0, [[-0.01, -0.02], [0.01, -0.02], [0.01, 0.02], [-0.01, 0.02]], pushmog.Pose(centre[0], centre[1], 0.0), 0.03, "block", None)
+    scene = pushmog.Scene.from_objects([block], gripper=base.gripper, workspace=base.workspace)
+    (obj,) = scene.objects
+    world = example.World(scene, pushmog.default_settings("sim"))
+    address = world.qpos[obj.id]
+    vertices = np.asarray(obj.vertices, dtype=float)
+
+    def turn_about_x(angle):
+        # Corners (x, y, z) go to (x, y cos − z sin, y sin + z cos); the prism is set down on its
+        # lowest corner, at the workspace's centre.
+        c, s = math.cos(angle), math.sin(angle)
+        corners = [(y * s + z * c) for y in vertices[:, 1] for z in (0.0, obj.height)]
+        world.data.qpos[address : address + 7] = [centre[0], centre[1], -min(corners), math.cos(angle / 2), math.sin(angle / 2), 0, 0]
+        mujoco.mj_forward(world.model, world.data)
+
+    # On its side: seen, standing as tall as its outline was deep, its outline from above as wide as
+    # before along x and as deep as the prism was tall along y.
+    turn_about_x(math.pi / 2)
+    observed, lost = world.observe(0.0, None)
+    assert not lost and len(observed) == 1
+    (seen,) = observed.objects
+    outline = seen.world_vertices()
+    assert seen.height == pytest.approx(vertices[:, 1].max() - vertices[:, 1].min(), abs=1e-6)
+    assert np.ptp(outline[:, 0]) == pytest.approx(np.ptp(vertices[:, 0]), abs=1e-6)
+    assert np.ptp(outline[:, 1]) == pytest.approx(obj.height, abs=1e-6)
+    # Tipped half way, resting on one edge: leaning, not lying flat, so lost.
+    turn_about_x(math.pi / 4)
+    observed, lost = world.observe(0.0, None)
+    assert len(observed) == 0 and lost == {obj.id: "toppled"}
