@@ -362,11 +362,13 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
 
 
 def polygon_area(vertices: np.ndarray) -> float:
+    """Signed area of a polygon (shoelace formula), positive when counter-clockwise."""
     x, y = vertices[:, 0], vertices[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
 def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
+    """Area centroid of a simple polygon."""
     x, y = vertices[:, 0], vertices[:, 1]
     cross = x * np.roll(y, -1) - np.roll(x, -1) * y
     area = 0.5 * cross.sum()
