@@ -231,27 +231,29 @@ class World:
         return False
 
     # -- what the camera sees --------------------------------------------------------------------
+    def corners(self, object_id: int) -> np.ndarray:
+        """The prism's corners in the world, ``(2n, 3)``: each outline vertex at its base and its top."""
+        body = self.body[object_id]
+        rotation = self.data.xmat[body].reshape(3, 3)
+        obj = self.objects[object_id]
+        local = np.array([[vx, vy, vz] for vx, vy in obj.vertices for vz in (0.0, obj.height)])
+        return local @ rotation.T + self.data.xpos[body]
+
     def pose(self, object_id: int) -> tuple:
         """(x, y, yaw, tilt, lowest point) of an object's body frame."""
         body = self.body[object_id]
         rotation = self.data.xmat[body].reshape(3, 3)
-        x, y, z = self.data.xpos[body]
+        x, y, _ = self.data.xpos[body]
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         tilt = math.acos(max(-1.0, min(1.0, rotation[2, 2])))
-        obj = self.objects[object_id]
-        corners = [rotation @ np.array([vx, vy, vz]) for vx, vy in obj.vertices for vz in (0.0, obj.height)]
-        lowest = z + min(c[2] for c in corners)
-        return x, y, yaw, tilt, lowest
+        return x, y, yaw, tilt, float(self.corners(object_id)[:, 2].min())
 
     def lying_flat(self, object_id: int) -> Optional[tuple]:
         """A toppled prism as an overhead camera sees it when it lies flat on a face (three or more
         corners on the table), as pushmog's simulator sees it: the outline of all its corners from
         above (about its centroid), that centroid, and how tall it stands now. None when it leans on
         something."""
-        body = self.body[object_id]
-        rotation = self.data.xmat[body].reshape(3, 3)
-        obj = self.objects[object_id]
-        corners = np.array([rotation @ np.array([vx, vy, vz]) for vx, vy in obj.vertices for vz in (0.0, obj.height)]) + self.data.xpos[body]
+        corners = self.corners(object_id)
         low, top = corners[:, 2].min(), corners[:, 2].max()
         resting = convex_hull(corners[corners[:, 2] < low + 1e-3, :2])
         if len(resting) < 3 or polygon_area(resting) < 1e-6:
