@@ -335,3 +335,37 @@ fn rows_held_under_noise_are_grasped_by_the_multi_object_planner() {
     );
     assert!(held > 0);
 }
+
+#[test]
+fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
+    let mut reported = Vec::new();
+    let rows = pushmog::experiment::compare_pushing(
+        &GeneratorSettings::default(),
+        &builtin_object_set(),
+        &pushmog::cluster::HierarchicalSettings::default(),
+        &pushmog::push::TowardCentralSettings::default(),
+        &SocpSettings::default(),
+        2,
+        1,
+        &mut |done| reported.push(done),
+    )
+    .unwrap();
+    assert_eq!(reported, vec![1, 2]);
+    for row in &rows {
+        let (central, socp) = (&row.central, &row.socp);
+        assert_eq!(central.clusters, socp.clusters);
+        // Clusters neither planner failed on: at most those each did not fail on, and their
+        // distance a part of each planner's total.
+        let planned = &row.both_planned;
+        assert!(planned.clusters <= central.clusters - central.failures.max(socp.failures));
+        assert!(planned.central <= central.distance + 1e-12);
+        assert!(planned.socp <= socp.distance + 1e-12);
+        let held = &row.both_held;
+        assert!(held.clusters <= central.held.min(socp.held));
+        assert!(held.central <= central.distance + 1e-12);
+        assert!(held.socp <= socp.distance + 1e-12);
+        assert!(planned.clusters > 0, "seed {}: no cluster both planned", row.seed);
+    }
+    let report = pushmog::experiment::push_comparison_markdown(&rows);
+    assert!(report.contains("clusters neither planner failed on"), "{report}");
+}

@@ -25,6 +25,8 @@ pub use config::{
 pub use log::{
     Log, LogHeader, LogReader, LogRow, merge_logs, merge_logs_into, read_log, write_log,
 };
-pub use push_comparison::{PushComparison, PushFigures, compare_pushing, push_comparison_markdown};
+pub use push_comparison::{
+    PushComparison, PushFigures, SharedClusters, compare_pushing, push_comparison_markdown,
+};
 pub use report::{ReportPaths, write_report};
 pub use runner::{RunReport, RunnerOptions, quantile, run_experiment, run_one};

@@ -7,6 +7,10 @@
 //! catches every member in one row, judged with unlimited friction, [`GraspModel::unlimited_friction`])
 //! and the share the grasp model predicts *held* with its friction; and failures (clusters with a push
 //! that could not be planned, or no row at all).
+//!
+//! Per-scene distance depends on how many clusters each planner pushes at all (a planner that fails
+//! on a cluster pushes nothing there), so the report also compares the two on the same clusters:
+//! those both plan without failure, and those both leave held by the grasp model.
 
 use std::fmt::Write as _;
 
@@ -39,6 +43,25 @@ pub struct PushFigures {
     pub seconds: f64,
 }
 
+/// Both planners' push distance on the clusters of one scene that meet a condition for both.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SharedClusters {
+    /// Clusters that meet it.
+    pub clusters: usize,
+    /// The paper's pushes' total distance on them, metres.
+    pub central: f64,
+    /// The SOCP's total distance on them, metres.
+    pub socp: f64,
+}
+
+impl SharedClusters {
+    fn add(&mut self, central: f64, socp: f64) {
+        self.clusters += 1;
+        self.central += central;
+        self.socp += socp;
+    }
+}
+
 /// Both planners on one scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PushComparison {
@@ -48,9 +71,14 @@ pub struct PushComparison {
     pub central: PushFigures,
     /// SOCP push targets.
     pub socp: PushFigures,
+    /// Clusters neither planner failed on.
+    pub both_planned: SharedClusters,
+    /// Clusters both planners leave held by the grasp model.
+    pub both_held: SharedClusters,
 }
 
-/// Runs the comparison on `scenes` seeded scenes.
+/// Runs the comparison on `scenes` seeded scenes; `done` is told how many scenes are finished after
+/// each one (for progress reports).
 ///
 /// # Errors
 /// Invalid settings or a scene that cannot be generated.
@@ -62,6 +90,7 @@ pub fn compare_pushing(
     socp: &SocpSettings,
     scenes: usize,
     first_seed: u64,
+    done: &mut dyn FnMut(usize),
 ) -> Result<Vec<PushComparison>> {
     let clusterer = Hierarchical::new(clustering.clone())?;
     let central = TowardCentral::new(central.clone())?;
@@ -81,10 +110,15 @@ pub fn compare_pushing(
         let scene = generate_scene(generator, set, seed)?;
         let clusters = clusterer.cluster(&scene)?.value.clusters;
         let mut figures = [PushFigures::default(), PushFigures::default()];
+        let mut both_planned = SharedClusters::default();
+        let mut both_held = SharedClusters::default();
         for cluster in clusters.iter().filter(|c| c.len() > 1) {
-            for (planner, figure) in [&central as &dyn PushPlanner, &socp]
+            // Per planner: this cluster's distance, whether it failed, whether it is held.
+            let mut this = [(0.0, false, false); 2];
+            for ((planner, figure), this) in [&central as &dyn PushPlanner, &socp]
                 .into_iter()
                 .zip(figures.iter_mut())
+                .zip(this.iter_mut())
             {
                 let outcome = planner.plan(&scene, cluster)?;
                 figure.clusters += 1;
@@ -99,15 +133,28 @@ pub fn compare_pushing(
                     figure.failures += 1;
                 }
                 figure.pushes += plan.pushes.len();
-                figure.distance += plan.pushes.iter().map(|p| p.distance).sum::<f64>();
+                let distance = plan.pushes.iter().map(|p| p.distance).sum::<f64>();
+                figure.distance += distance;
                 let after = predict(&scene, &plan.pushes)?;
                 let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
                 if holds_all(&fits, &after, cluster, &hints)? {
                     figure.fits += 1;
                 }
-                if holds_all(&holds, &after, cluster, &hints)? {
+                let held = holds_all(&holds, &after, cluster, &hints)?;
+                if held {
                     figure.held += 1;
                 }
+                *this = (distance, failed, held);
+            }
+            let [
+                (central, central_failed, central_held),
+                (socp, socp_failed, socp_held),
+            ] = this;
+            if !central_failed && !socp_failed {
+                both_planned.add(central, socp);
+            }
+            if central_held && socp_held {
+                both_held.add(central, socp);
             }
         }
         let [central, socp] = figures;
@@ -115,7 +162,10 @@ pub fn compare_pushing(
             seed,
             central,
             socp,
+            both_planned,
+            both_held,
         });
+        done(rows.len());
     }
     Ok(rows)
 }
@@ -194,5 +244,27 @@ pub fn push_comparison_markdown(rows: &[PushComparison]) -> String {
         ratios.iter().filter(|&&r| r < 1.0).count(),
         ratios.len()
     );
+    for (what, pick) in [
+        (
+            "neither planner failed on",
+            (|r: &PushComparison| &r.both_planned) as fn(&PushComparison) -> &SharedClusters,
+        ),
+        (
+            "both leave held by the grasp model",
+            |r: &PushComparison| &r.both_held,
+        ),
+    ] {
+        let clusters: usize = rows.iter().map(|r| pick(r).clusters).sum();
+        let central: f64 = rows.iter().map(|r| pick(r).central).sum();
+        let socp: f64 = rows.iter().map(|r| pick(r).socp).sum();
+        let per = |total: f64| 1e3 * total / clusters.max(1) as f64;
+        let _ = writeln!(
+            out,
+            "- on the {clusters} clusters {what}: paper {:.1} mm, SOCP {:.1} mm of pushing per cluster ({:+.1} %)",
+            per(central),
+            per(socp),
+            100.0 * (socp / central.max(1e-12) - 1.0)
+        );
+    }
     out
 }

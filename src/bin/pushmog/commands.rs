@@ -341,11 +341,11 @@ pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
         ..base
     };
     eprintln!(
-        "comparing on {} scenes of {} objects (seeds {}..{})",
+        "comparing on {} scenes of {} objects (seeds {}–{})",
         args.scenes,
         args.objects,
         args.seed,
-        args.seed + args.scenes as u64
+        (args.seed + args.scenes as u64).saturating_sub(1)
     );
     let rows = compare(
         &generator,
@@ -387,10 +387,10 @@ pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
 pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
     let settings: PolicySettings = settings_or_default(args.settings.as_deref())?;
     eprintln!(
-        "comparing pushes on {} scenes (seeds {}..{})",
+        "comparing pushes on {} scenes (seeds {}–{})",
         args.scenes,
         args.seed,
-        args.seed + args.scenes as u64
+        (args.seed + args.scenes as u64).saturating_sub(1)
     );
     let rows = pushmog::experiment::compare_pushing(
         &GeneratorSettings::default(),
@@ -400,6 +400,11 @@ pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
         &settings.socp,
         args.scenes,
         args.seed,
+        &mut |done| {
+            if done % 10 == 0 || done == args.scenes {
+                eprintln!("  {done}/{} scenes compared", args.scenes);
+            }
+        },
     )?;
     print!("{}", pushmog::experiment::push_comparison_markdown(&rows));
     Ok(())
