@@ -345,8 +345,7 @@ fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
         &pushmog::cluster::HierarchicalSettings::default(),
         &pushmog::push::TowardCentralSettings::default(),
         &SocpSettings::default(),
-        2,
-        1,
+        1..3,
         &mut |done| reported.push(done),
     )
     .unwrap();
@@ -364,8 +363,15 @@ fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
         assert!(held.clusters <= central.held.min(socp.held));
         assert!(held.central <= central.distance + 1e-12);
         assert!(held.socp <= socp.distance + 1e-12);
-        assert!(planned.clusters > 0, "seed {}: no cluster both planned", row.seed);
+        assert!(
+            planned.clusters > 0,
+            "seed {}: no cluster both planned",
+            row.seed
+        );
     }
     let report = pushmog::experiment::push_comparison_markdown(&rows);
-    assert!(report.contains("clusters neither planner failed on"), "{report}");
+    assert!(
+        report.contains("clusters neither planner failed on"),
+        "{report}"
+    );
 }

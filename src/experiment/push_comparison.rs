@@ -77,7 +77,7 @@ pub struct PushComparison {
     pub both_held: SharedClusters,
 }
 
-/// Runs the comparison on `scenes` seeded scenes; `done` is told how many scenes are finished after
+/// Runs the comparison on the scenes of these generator seeds; `done` is told how many scenes are finished after
 /// each one (for progress reports).
 ///
 /// # Errors
@@ -88,8 +88,7 @@ pub fn compare_pushing(
     clustering: &HierarchicalSettings,
     central: &TowardCentralSettings,
     socp: &SocpSettings,
-    scenes: usize,
-    first_seed: u64,
+    seeds: std::ops::Range<u64>,
     done: &mut dyn FnMut(usize),
 ) -> Result<Vec<PushComparison>> {
     let clusterer = Hierarchical::new(clustering.clone())?;
@@ -105,8 +104,8 @@ pub fn compare_pushing(
         model: socp.settings().model.clone(),
         ..MultiObjectSettings::default()
     })?;
-    let mut rows = Vec::with_capacity(scenes);
-    for seed in first_seed..first_seed + scenes as u64 {
+    let mut rows = Vec::with_capacity(seeds.clone().count());
+    for seed in seeds {
         let scene = generate_scene(generator, set, seed)?;
         let clusters = clusterer.cluster(&scene)?.value.clusters;
         let mut figures = [PushFigures::default(), PushFigures::default()];

@@ -398,8 +398,7 @@ pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
         &settings.clustering,
         &settings.pushing,
         &settings.socp,
-        args.scenes,
-        args.seed,
+        args.seed..args.seed + args.scenes as u64,
         &mut |done| {
             if done % 10 == 0 || done == args.scenes {
                 eprintln!("  {done}/{} scenes compared", args.scenes);
