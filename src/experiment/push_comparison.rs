@@ -77,8 +77,8 @@ pub struct PushComparison {
     pub both_held: SharedClusters,
 }
 
-/// Runs the comparison on the scenes of these generator seeds; `done` is told how many scenes are finished after
-/// each one (for progress reports).
+/// Runs the comparison on the scenes of these generator seeds; `done` is told how many scenes are
+/// finished after each one (for progress reports).
 ///
 /// # Errors
 /// Invalid settings or a scene that cannot be generated.
