@@ -473,3 +473,50 @@ fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
     let same = policy.plan_trip_with(&table, &mut context).unwrap().value;
     assert_eq!(same, Some(first));
 }
+
+/// Objects whose multi-object grasps carried nothing twice are taken one at a time: the trip planned
+/// again with two such failures remembered grasps no set of exactly those objects, yet still grasps
+/// something. One failure alone does not give them up.
+#[test]
+fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
+    use pushmog::policy::{GIVE_UP_AFTER, TripContext};
+    let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let (table, seed, first) = (0..20)
+        .find_map(|seed| {
+            let table = scene(seed);
+            let trip = policy
+                .plan_trip_with(&table, &mut TripContext::new(seed))
+                .unwrap()
+                .value?;
+            (trip.grasp.objects.len() >= 2).then_some((table, seed, trip))
+        })
+        .expect("a first trip with a multi-object grasp on one of 20 scenes");
+    let mut together = first.grasp.objects.clone();
+    together.sort_unstable();
+    let mut context = TripContext::new(seed);
+    for failures in 1..=GIVE_UP_AFTER {
+        let mut grasp = first.grasp.clone();
+        // The same objects, grasped elsewhere: the failed jaws themselves are avoided anyway.
+        grasp.jaws.center.x += 0.05 * failures as f64;
+        grasp.objects.reverse();
+        context.record_failure(&grasp);
+        assert_eq!(context.given_up(&together), failures >= GIVE_UP_AFTER);
+    }
+    let again = policy
+        .plan_trip_with(&table, &mut context)
+        .unwrap()
+        .value
+        .expect("a trip without that multi-object grasp");
+    let mut objects = again.grasp.objects.clone();
+    objects.sort_unstable();
+    assert_ne!(objects, together);
+    assert!(!again.grasp.objects.is_empty());
+    // A single-object grasp that carried nothing gives up no set.
+    let mut context = TripContext::new(seed);
+    for _ in 0..GIVE_UP_AFTER {
+        let mut single = first.grasp.clone();
+        single.objects.truncate(1);
+        context.record_failure(&single);
+    }
+    assert!(context.failed_together.is_empty());
+}

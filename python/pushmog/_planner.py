@@ -22,8 +22,9 @@ class NoTrip(Exception):
 
 class TripContext:
     """What a closed loop carries between trips: the seeded random stream that picks the next cluster,
-    the jaw poses whose grasps carried nothing (not tried again in practically the same place) and
-    the pushes whose fingers came down on an object. A loop that wants the command line's choices
+    the jaw poses whose grasps carried nothing (not tried again in practically the same place), the
+    object sets of multi-object grasps that carried nothing (after two such grasps those objects are
+    taken one at a time) and the pushes whose fingers came down on an object. A loop that wants the command line's choices
     uses one context, seeded as ``pushmog plan --seed``."""
 
     __slots__ = ("_native",)
@@ -32,13 +33,19 @@ class TripContext:
         self._native = _native.TripContext(int(seed))
 
     def record_failure(self, trip: TripPlan) -> None:
-        """The grasp of ``trip`` carried nothing: do not propose those jaws again."""
-        self._native.add_failed(json.dumps(trip.to_dict()["grasp"]["jaws"]))
+        """The grasp of ``trip`` carried nothing: do not propose those jaws again, and after the
+        second such grasp of the same objects, do not grasp them together again."""
+        self._native.add_failed(json.dumps(trip.to_dict()["grasp"]))
 
     @property
     def failed(self) -> list:
         """Jaw poses recorded as failed, as dicts."""
         return json.loads(self._native.failed())
+
+    @property
+    def failed_together(self) -> list:
+        """Object sets (sorted ids) of the multi-object grasps recorded as failed, one list per grasp."""
+        return json.loads(self._native.failed_together())
 
     def record_landing(self, trip: TripPlan, push: int, on: int) -> None:
         """During push number ``push`` of ``trip`` a finger came down on object ``on``. When that

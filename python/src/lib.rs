@@ -9,7 +9,7 @@
 //! `RuntimeError`.
 
 use pushmog::exec::{Executor, Sim, SimSettings};
-use pushmog::grasp::JawPose;
+use pushmog::grasp::Grasp;
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, verify};
 use pushmog::policy::{
@@ -143,8 +143,9 @@ impl Scene {
 }
 
 /// What a closed loop remembers between trips: the random stream that picks the next cluster, the
-/// jaw poses where grasps carried nothing (not tried again in practically the same place) and the
-/// pushes whose fingers came down on an object.
+/// jaw poses where grasps carried nothing (not tried again in practically the same place), the
+/// object sets of multi-object grasps that carried nothing (given up after two) and the pushes
+/// whose fingers came down on an object.
 #[pyclass(module = "pushmog._native")]
 struct TripContext {
     context: Context,
@@ -160,16 +161,22 @@ impl TripContext {
         }
     }
 
-    /// Records that a grasp at these jaws (JSON of a grasp's `jaws`) carried nothing.
-    fn add_failed(&mut self, jaws: &str) -> PyResult<()> {
-        let jaws: JawPose = check(json::from_json(jaws, "jaws"))?;
-        self.context.failed.push(jaws);
+    /// Records that this grasp (JSON of a trip's `grasp`) carried nothing: its jaws, and its
+    /// objects when there were several.
+    fn add_failed(&mut self, grasp: &str) -> PyResult<()> {
+        let grasp: Grasp = check(json::from_json(grasp, "grasp"))?;
+        self.context.record_failure(&grasp);
         Ok(())
     }
 
     /// The jaw poses recorded as failed, as JSON.
     fn failed(&self) -> String {
         to_json(&self.context.failed)
+    }
+
+    /// The object sets of the multi-object grasps recorded as failed, as JSON.
+    fn failed_together(&self) -> String {
+        to_json(&self.context.failed_together)
     }
 
     /// Records that during this push (JSON of a trip's push) a finger came down on object `on`.

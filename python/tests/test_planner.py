@@ -164,6 +164,29 @@ def test_failed_grasps_are_not_proposed_again(scene):
     assert len(context.failed) == 1
     again = planner.plan_trip(scene, context)
     assert again.grasp.jaws.to_dict() != trip.grasp.jaws.to_dict()
+    assert context.failed_together == []  # a single-object grasp gives up no set
+
+
+def test_objects_that_failed_together_twice_are_taken_apart():
+    """Two multi-object grasps of the same objects that carried nothing: the next trip grasps no set
+    of exactly those objects."""
+    planner = pushmog.Planner("push-mog-opt")
+
+    def first_trip(seed):
+        table = pushmog.generate_scene(seed=seed)
+        return table, seed, planner.plan_trip(table, pushmog.TripContext(seed))
+
+    table, seed, trip = next(
+        found for found in map(first_trip, range(20)) if len(found[2].grasp.objects) >= 2
+    )
+    together = sorted(trip.grasp.objects)
+    context = pushmog.TripContext(seed)
+    context.record_failure(trip)
+    assert context.failed_together == [together]
+    assert sorted(planner.plan_trip(table, pushmog.TripContext(seed)).grasp.objects) == together
+    context.record_failure(trip)
+    again = planner.plan_trip(table, context)
+    assert sorted(again.grasp.objects) != together
 
 
 def test_a_push_that_landed_is_remembered(scene):

@@ -23,7 +23,9 @@
 //! are tried and the object left out waits for a later trip. When the multi-object planner finds nothing
 //! for a cluster, a single-object grasp of one of its
 //! objects is tried. An attempt that yields no grasp is recorded with its reason and costs no trip; a
-//! grasp that carries nothing is a trip (a failed grasp). The run stops when the table is clear, when
+//! grasp that carries nothing is a trip (a failed grasp). Its jaws are not proposed again, and after
+//! [`GIVE_UP_AFTER`] multi-object grasps of the same objects carried nothing, those objects are no
+//! longer grasped together ([`TripContext`]). The run stops when the table is clear, when
 //! every object left is wider than the jaw gap, after `max_failed_attempts` fruitless attempts in a
 //! row, or at the trip limit; it never loops forever.
 
@@ -473,7 +475,7 @@ mod run;
 mod trip;
 
 pub use run::{Run, RunTiming, run_seconds};
-pub use trip::{Landing, TripContext, TripPlan};
+pub use trip::{GIVE_UP_AFTER, Landing, TripContext, TripPlan};
 
 impl Policy {
     /// The preset `kind` with these settings.

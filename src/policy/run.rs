@@ -179,7 +179,7 @@ impl<'a> Run<'a> {
         }
         if record.carried.is_empty() {
             self.in_a_row += 1;
-            self.context.failed.push(record.grasp.jaws);
+            self.context.record_failure(&record.grasp);
         } else {
             self.in_a_row = 0;
         }
