@@ -80,8 +80,8 @@ pub struct TripContext {
 
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
 /// longer grasped together in the run. A failed grasp is not tried again in the same place, but a
-/// grasp model that misjudges a set (an object toppled onto a sloping face, say, seen from above as
-/// an upright prism) holds it in every other place too: on a held-out scene the pair 12/31 (a
+/// grasp model that misjudges a set (an object toppled onto a side face, say, seen from above as an
+/// upright prism of its outline) may hold it in every other place too: on a held-out scene the pair 12/31 (a
 /// triangular prism lying on its side and a pentagon) was grasped together eleven times, each
 /// carrying nothing, until the run stopped. One failure can be bad luck (objects move, and the
 /// next look sees them anew), so the set is given up after the second.
