@@ -24,8 +24,8 @@ class TripContext:
     """What a closed loop carries between trips: the seeded random stream that picks the next cluster,
     the jaw poses whose grasps carried nothing (not tried again in practically the same place), the
     object sets of multi-object grasps that carried nothing (after two such grasps those objects are
-    taken one at a time) and the pushes whose fingers came down on an object. A loop that wants the command line's choices
-    uses one context, seeded as ``pushmog plan --seed``."""
+    taken one at a time) and the pushes whose fingers came down on an object. A loop that wants the
+    command line's choices uses one context, seeded as ``pushmog plan --seed``."""
 
     __slots__ = ("_native",)
 

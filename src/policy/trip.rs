@@ -81,10 +81,10 @@ pub struct TripContext {
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
 /// longer grasped together in the run. A failed grasp is not tried again in the same place, but a
 /// grasp model that misjudges a set (an object toppled onto a side face, say, seen from above as an
-/// upright prism of its outline) may hold it in every other place too: on a held-out scene the pair 12/31 (a
-/// triangular prism lying on its side and a pentagon) was grasped together eleven times, each
-/// carrying nothing, until the run stopped. One failure can be bad luck (objects move, and the
-/// next look sees them anew), so the set is given up after the second.
+/// upright prism of its outline) may hold it in every other place too: on a held-out scene the
+/// pair 12/31 (a triangular prism lying on its side and a pentagon) was grasped together eleven
+/// times, each carrying nothing, until the run stopped. One failure can be bad luck (objects move,
+/// and the next look sees them anew), so the set is given up after the second.
 pub const GIVE_UP_AFTER: usize = 2;
 
 /// A push during whose descent a finger came down on an object.
@@ -115,6 +115,11 @@ impl TripContext {
             objects.sort_unstable();
             self.failed_together.push(objects);
         }
+    }
+
+    /// Whether `grasp` takes two or more objects that are still to be grasped together.
+    fn together(&self, grasp: &Grasp) -> bool {
+        grasp.objects.len() >= 2 && !self.given_up(&grasp.objects)
     }
 
     /// Whether these objects are no longer to be grasped together: [`GIVE_UP_AFTER`] grasps of
@@ -282,10 +287,7 @@ impl Policy {
         let outcome = self
             .multi
             .plan_several(observed, &members, &[], &[], avoid)?;
-        if let Some(grasp) = outcome
-            .value
-            .filter(|g| g.objects.len() >= 2 && !context.given_up(&g.objects))
-        {
+        if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
             return Ok(Ok(draft(Vec::new(), skipped, grasp)));
         }
         let single = self.single.plan_avoiding(observed, &members, avoid)?;
@@ -404,10 +406,7 @@ impl Policy {
         let outcome = self
             .multi
             .plan_several(&predicted, members, &hints, &pushed, avoid)?;
-        let reason = match outcome
-            .value
-            .filter(|g| g.objects.len() >= 2 && !context.given_up(&g.objects))
-        {
+        let reason = match outcome.value.filter(|g| context.together(g)) {
             Some(grasp) => {
                 let left: Vec<ObjectId> = pushed
                     .iter()
@@ -473,10 +472,7 @@ impl Policy {
             let outcome =
                 self.multi
                     .plan_several(observed, &members, &[trip.grasp.jaws], &[], avoid)?;
-            if let Some(grasp) = outcome
-                .value
-                .filter(|g| g.objects.len() >= 2 && !context.given_up(&g.objects))
-            {
+            if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
                 return Ok(Some(next(Vec::new(), skipped, grasp)));
             }
             if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
