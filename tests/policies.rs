@@ -424,6 +424,22 @@ fn plan_files_are_compact_and_read_back_exactly() {
     assert!(plan.trips.iter().any(|t| !t.looks.is_empty()));
 }
 
+/// The first of seeds 0–19 whose scene's first trip (context seeded alike) is `wanted`: its table,
+/// seed and trip.
+fn first_trip_where(
+    policy: &Policy,
+    wanted: impl Fn(&pushmog::policy::TripPlan) -> bool,
+) -> Option<(Scene, u64, pushmog::policy::TripPlan)> {
+    (0..20).find_map(|seed| {
+        let table = scene(seed);
+        let trip = policy
+            .plan_trip_with(&table, &mut pushmog::policy::TripContext::new(seed))
+            .unwrap()
+            .value?;
+        wanted(&trip).then_some((table, seed, trip))
+    })
+}
+
 /// After a finger came down during a push on an object the camera does not see (outside the
 /// workspace), that object is not pushed again with its fingers lowered near there: the trip planned
 /// again with the landing remembered makes no such push, says why, and still grasps something.
@@ -433,15 +449,7 @@ fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
     use pushmog::push::SkipReason;
     use pushmog::scene::ObjectId;
     let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
-    let (table, seed, first) = (0..20)
-        .find_map(|seed| {
-            let table = scene(seed);
-            let trip = policy
-                .plan_trip_with(&table, &mut TripContext::new(seed))
-                .unwrap()
-                .value?;
-            (!trip.pushes.is_empty()).then_some((table, seed, trip))
-        })
+    let (table, seed, first) = first_trip_where(&policy, |trip| !trip.pushes.is_empty())
         .expect("a first trip with pushes on one of 20 scenes");
     let landed = first.pushes[0].clone();
     let unseen = ObjectId(1000);
@@ -481,15 +489,7 @@ fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
 fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
     use pushmog::policy::{GIVE_UP_AFTER, TripContext};
     let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
-    let (table, seed, first) = (0..20)
-        .find_map(|seed| {
-            let table = scene(seed);
-            let trip = policy
-                .plan_trip_with(&table, &mut TripContext::new(seed))
-                .unwrap()
-                .value?;
-            (trip.grasp.objects.len() >= 2).then_some((table, seed, trip))
-        })
+    let (table, seed, first) = first_trip_where(&policy, |trip| trip.grasp.objects.len() >= 2)
         .expect("a first trip with a multi-object grasp on one of 20 scenes");
     let mut together = first.grasp.objects.clone();
     together.sort_unstable();

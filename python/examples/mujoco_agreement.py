@@ -24,9 +24,14 @@ import mujoco_loop  # noqa: E402
 import pushmog  # noqa: E402
 
 
+def noisy(noise: bool) -> str:
+    """The suffix of a noisy run's file and table names."""
+    return "-noisy" if noise else ""
+
+
 def one(task: tuple) -> dict:
     policy, seed, objects, runs, noise = task
-    path = Path(runs) / f"{policy}-{seed}{'-noisy' if noise else ''}.json"
+    path = Path(runs) / f"{policy}-{seed}{noisy(noise)}.json"
     if path.exists():  # resumable: a finished run is read back
         return json.loads(path.read_text())
     scene = pushmog.generate_scene(objects, seed)
@@ -98,7 +103,7 @@ def main() -> None:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         results = list(pool.map(one, tasks))
     md, tex = tables(results, args.policies, chosen[0], chosen[-1], args.noise)
-    name = "mujoco-agreement-noisy" if args.noise else "mujoco-agreement"
+    name = f"mujoco-agreement{noisy(args.noise)}"
     Path(args.out, f"{name}.md").write_text(md)
     Path(args.out, f"{name}.tex").write_text(tex)
     print(md)
