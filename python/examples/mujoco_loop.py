@@ -280,14 +280,19 @@ class World:
                     continue
                 vertices, (x, y), height = [[float(u), float(v)] for u, v in flat[0]], flat[1], flat[2]
                 yaw = 0.0
-            if noise > 0:
-                x, y = x + rng.normal(0, noise), y + rng.normal(0, noise)
-                yaw += rng.normal(0, self.sim["perception_yaw"])
-            seen = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
-            outline = seen.world_vertices()
-            if (outline < low).any() or (outline > high).any():
+            # Whether an object has left the workspace is decided by where it is, not by the noise
+            # of the camera's estimate, as in pushmog's simulator; an estimate that noise put past
+            # an edge is not reported, the true pose is.
+            true = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
+            if outside(true.world_vertices(), low, high):
                 lost[object_id] = "outside the workspace"
                 continue
+            seen = true
+            if noise > 0:
+                noisy = pushmog.Pose(x + rng.normal(0, noise), y + rng.normal(0, noise), yaw + rng.normal(0, self.sim["perception_yaw"]))
+                seen = pushmog.Object(object_id, vertices, noisy, height, obj.name, obj.mass)
+                if outside(seen.world_vertices(), low, high):
+                    seen = true
             objects.append(seen)
         return separated(objects, self.scene), lost
 
@@ -343,19 +348,31 @@ class World:
         mujoco.mj_forward(self.model, self.data)
 
 
+# Sine of the smallest turn kept at a hull vertex (pushmog's own limit is 1e-9, relative).
+STRAIGHT = 1e-7
+
+
+def outside(outline: np.ndarray, low, high) -> bool:
+    """Whether any vertex of a world outline lies past the workspace's edges."""
+    return bool((outline < low).any() or (outline > high).any())
+
+
 def convex_hull(points: np.ndarray) -> np.ndarray:
-    """The convex hull of 2-D points, counter-clockwise, without repeated or collinear points."""
+    """The convex hull of 2-D points, counter-clockwise, without repeated or collinear points. A
+    point where the hull turns by less than `STRAIGHT` (the sine of the angle between its edges) is
+    dropped: pushmog refuses an outline with a vertex that straight, as it would a collinear one."""
     pts = sorted({(round(float(x), 9), round(float(y), 9)) for x, y in points})
     if len(pts) < 3:
         return np.array(pts)
 
-    def cross(o, a, b):
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    def turn(o, a, b):
+        cross = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        return cross / max(math.dist(o, a) * math.dist(a, b), 1e-300)
 
     def half(sequence):
         chain: list = []
         for p in sequence:
-            while len(chain) >= 2 and cross(chain[-2], chain[-1], p) <= 0:
+            while len(chain) >= 2 and turn(chain[-2], chain[-1], p) <= STRAIGHT:
                 chain.pop()
             chain.append(p)
         return chain[:-1]
