@@ -51,6 +51,7 @@ NOSLIP = 20  # noslip solver passes: Coulomb friction without the soft-contact c
 TIMESTEP = 0.001  # s; objects move well under 0.1 mm per step at these speeds
 TRANSFER_SPEED = 0.25  # m/s, moves through the air (not timed: only what happens on the table matters)
 BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the table
+STRAIGHT = 1e-7  # sine of the smallest turn a hull keeps at a vertex (pushmog refuses below 1e-9)
 
 
 def prism_mesh(vertices: np.ndarray, height: float) -> str:
@@ -283,16 +284,16 @@ class World:
             # Whether an object has left the workspace is decided by where it is, not by the noise
             # of the camera's estimate, as in pushmog's simulator; an estimate that noise put past
             # an edge is not reported, the true pose is.
-            true = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
-            if outside(true.world_vertices(), low, high):
+            actual = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
+            if outside(actual.world_vertices(), low, high):
                 lost[object_id] = "outside the workspace"
                 continue
-            seen = true
+            seen = actual
             if noise > 0:
                 noisy = pushmog.Pose(x + rng.normal(0, noise), y + rng.normal(0, noise), yaw + rng.normal(0, self.sim["perception_yaw"]))
                 seen = pushmog.Object(object_id, vertices, noisy, height, obj.name, obj.mass)
                 if outside(seen.world_vertices(), low, high):
-                    seen = true
+                    seen = actual
             objects.append(seen)
         return separated(objects, self.scene), lost
 
@@ -346,10 +347,6 @@ class World:
         self.data.qvel[dof : dof + 6] = 0
         self.binned.append(object_id)
         mujoco.mj_forward(self.model, self.data)
-
-
-# Sine of the smallest turn kept at a hull vertex (pushmog's own limit is 1e-9, relative).
-STRAIGHT = 1e-7
 
 
 def outside(outline: np.ndarray, low, high) -> bool:
