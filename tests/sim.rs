@@ -358,3 +358,54 @@ fn noisy_observations_of_touching_bars_keep_every_bar() {
         assert_eq!(seen.len(), 4, "seed {seed}: lost {:?}", sim.lost());
     }
 }
+
+/// A square and a scalene triangle met by the plates' corners (a pair push-mog-opt planned on
+/// paper-100 scene 8, in the jaws' frame, millimetres): the planar closing ends with both plate
+/// contacts at the edge of their friction cones and calls the pair held, rapier squeezes the triangle
+/// out, and the model that asks for friction to spare refuses the pair.
+#[test]
+fn a_pair_held_only_at_the_edge_of_friction_is_refused_with_friction_to_spare() {
+    use pushmog::grasp::{GraspModel, Squeeze, squeeze};
+    let at = |points: &[(f64, f64)]| {
+        let outline = polygon(
+            &points
+                .iter()
+                .map(|&(x, y)| (x / 1e3, y / 1e3))
+                .collect::<Vec<_>>(),
+        );
+        let c = outline.centroid();
+        let local: Vec<(f64, f64)> = outline
+            .vertices()
+            .iter()
+            .map(|v| (v.x - c.x, v.y - c.y))
+            .collect();
+        (polygon(&local), 0.2 + c.x, 0.15 + c.y, 0.0)
+    };
+    let s = scene(vec![
+        at(&[(-26.7, -15.4), (3.1, -11.3), (-1.0, 18.4), (-30.7, 14.4)]),
+        at(&[(31.9, -17.5), (13.3, 20.2), (1.5, -19.1)]),
+    ]);
+    let jaws = JawPose {
+        center: Point2::new(0.2, 0.15),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    let plain = GraspModel::default();
+    assert!(
+        matches!(squeeze(&s, &jaws, &plain), Squeeze::Held { ref objects, .. } if objects.len() == 2)
+    );
+    let spare = GraspModel {
+        friction_share: Some(0.9),
+        ..GraspModel::default()
+    };
+    assert!(!matches!(squeeze(&s, &jaws, &spare), Squeeze::Held { .. }));
+    let mut sim = sim();
+    sim.reset(&s).unwrap();
+    let grasp = Grasp {
+        jaws,
+        objects: vec![ObjectId(0), ObjectId(1)],
+        width: 0.0,
+        margin: 0.0,
+    };
+    assert!(sim.grasp(&grasp).unwrap().carried.len() < 2);
+}

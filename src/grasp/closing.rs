@@ -17,6 +17,8 @@
 //! The simulation stops when the jaws have stalled on the objects and everything is still, when the
 //! plates shut, or after the time the jaws need to cross their opening. An object is *gripped* when
 //! it lies in the chain of contacts that joins the two plates, touching it at two places at least.
+//! With `GraspModel::friction_share` set it must also be able to rest under its contacts with that
+//! share of their friction (`equilibrium.rs`).
 
 use nalgebra::{Isometry2, Point2, Vector2};
 
@@ -24,6 +26,7 @@ use super::model::{Body, GraspModel};
 use crate::geometry::{ConvexPolygon, contact_points, cross};
 use crate::scene::Gripper;
 
+use super::equilibrium::{Touch, balanced};
 use super::jaws::JawPose;
 
 /// Standard gravity, m/s².
@@ -52,6 +55,8 @@ const FINGER_MASS: f64 = 0.05;
 const EXTRA_TIME: f64 = 0.4;
 /// A contact within this distance of one of the last step (same pair) continues it, metres.
 const WARM_START_RADIUS: f64 = 1e-3;
+/// A contact this close counts as touching when judging an object's equilibrium, metres.
+const TOUCHING: f64 = 1e-4;
 /// Steps everything must stay still before the closing counts as settled.
 const STILL_STEPS: usize = 20;
 
@@ -160,6 +165,8 @@ struct World {
     friction_jaw: f64,
     friction_object: f64,
     friction_table: f64,
+    /// Share of friction an object may use to rest once pressed ([`GraspModel::friction_share`]).
+    friction_share: Option<f64>,
     grip_force: f64,
     jaw_speed: f64,
     /// Solver passes per step.
@@ -416,6 +423,7 @@ pub(super) fn simulate_closing(
         friction_jaw: model.friction_jaw,
         friction_object: model.friction_object,
         friction_table: model.friction_table,
+        friction_share: model.friction_share,
         grip_force: model.grip_force,
         jaw_speed: model.jaw_speed,
         last: Vec::new(),
@@ -477,8 +485,33 @@ fn finish(world: &World, squeezing: bool) -> Closed {
     }
     let threshold = world.grip_force * TIME_STEP;
     let axis = world.plates.axis;
+    let rests = |i: usize| {
+        let Some(share) = world.friction_share else {
+            return true;
+        };
+        let touches: Vec<Touch> = world
+            .last
+            .iter()
+            .filter(|c| c.normal_impulse > 0.0 || c.separation <= TOUCHING)
+            .filter_map(|c| {
+                let inward = if c.b == Party::Piece(i) {
+                    c.normal
+                } else if c.a == Party::Piece(i) {
+                    -c.normal
+                } else {
+                    return None;
+                };
+                Some(Touch {
+                    point: c.point,
+                    normal: inward,
+                    friction: c.friction,
+                })
+            })
+            .collect();
+        balanced(&world.pieces[i].position, &touches, share)
+    };
     let mut gripped: Vec<usize> = (0..n)
-        .filter(|&i| squeezing && pressed[i] >= threshold)
+        .filter(|&i| squeezing && pressed[i] >= threshold && rests(i))
         .collect();
     gripped.sort_by(|&i, &j| {
         world.pieces[i]

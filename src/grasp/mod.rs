@@ -6,6 +6,7 @@
 //!   default the closing is simulated in the plane, objects sliding and turning on the table while the
 //!   coupled plates close (`closing.rs`), or judged by the first, analytic model (objects slide
 //!   without turning, Nguyen's condition object by object).
+//!   Optionally a pressed object must also rest with friction to spare (`equilibrium.rs`).
 //! - [`GraspOutcome`]: how a planner judges candidates: the model on the observed table, on noisy
 //!   copies of it ([`ModelOutcome`], robust), or a rollout in the simulator (`exec::Rollout`).
 //!   `ModelOutcome` remembers the closings it has judged by their exact inputs (`memory.rs`).
@@ -20,6 +21,7 @@
 //! `formulations/grasping.md`.
 
 mod closing;
+mod equilibrium;
 mod jaws;
 mod memory;
 mod model;
