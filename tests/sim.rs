@@ -374,12 +374,8 @@ fn a_pair_held_only_at_the_edge_of_friction_is_refused_with_friction_to_spare() 
                 .collect::<Vec<_>>(),
         );
         let c = outline.centroid();
-        let local: Vec<(f64, f64)> = outline
-            .vertices()
-            .iter()
-            .map(|v| (v.x - c.x, v.y - c.y))
-            .collect();
-        (polygon(&local), 0.2 + c.x, 0.15 + c.y, 0.0)
+        let about_centroid = outline.transformed(&nalgebra::Isometry2::translation(-c.x, -c.y));
+        (about_centroid, 0.2 + c.x, 0.15 + c.y, 0.0)
     };
     let s = scene(vec![
         at(&[(-26.7, -15.4), (3.1, -11.3), (-1.0, 18.4), (-30.7, 14.4)]),
