@@ -157,6 +157,8 @@ class World:
     def __post_init__(self) -> None:
         self.model = mujoco.MjModel.from_xml_string(model_xml(self.scene, self.sim))
         self.data = mujoco.MjData(self.model)
+        self.closing = False  # whether the grip servo is closing (`follow`)
+        self.pad_address = [self.model.jnt_qposadr[self.model.joint(side).id] for side in ("left", "right")]
         self.objects = {o.id: o for o in self.scene.objects}
         self.body = {o.id: self.model.body(f"object{o.id}").id for o in self.scene.objects}
         self.qpos = {i: self.model.jnt_qposadr[self.model.body_jntadr[b]] for i, b in self.body.items()}
@@ -178,8 +180,20 @@ class World:
 
     # -- motion --------------------------------------------------------------------------------
     def step(self) -> None:
+        if self.closing:
+            self.follow()
         self.data.ctrl[:] = self.target
         mujoco.mj_step(self.model, self.data)
+
+    def follow(self) -> None:
+        """One step of closing: the grip servo's target moves toward fully closed at no more than the
+        jaw speed, and never leads the pads by more than the squeeze that gives the grip force. The
+        force so stays at its cap while the pads are blocked, and pads whose object slips away follow
+        at the jaw speed, as the 2F-85's speed-limited motor does, instead of snapping shut."""
+        closed = -self.scene.gripper["plate_thickness"]
+        pads = self.data.qpos[self.pad_address[0]] - self.data.qpos[self.pad_address[1]]
+        lead = self.sim["grip_force"] / GRIP_STIFFNESS + 0.001
+        self.target[4] = min(closed, self.target[4] + self.sim["jaw_speed"] * TIMESTEP, pads + lead)
 
     def wait(self, seconds: float) -> None:
         for _ in range(int(round(seconds / TIMESTEP))):
@@ -201,25 +215,28 @@ class World:
 
     def set_opening(self, opening: float) -> None:
         """Opens the jaws to `opening` between the plate centres, and waits until they are there."""
+        self.closing = False
         self.target[4] = -opening
         self.wait(0.15)
 
     def close(self) -> None:
-        """Closes at the jaw speed with at most the grip force per pad: the servo's target keeps
-        shrinking at the jaw speed; once the pads lag it by more than the grip force over the servo's
-        stiffness, the force is at its cap, and the target goes straight to fully closed (the cap
-        holds the squeeze; if an object slips, the pads follow)."""
+        """Closes at the jaw speed with at most the grip force per pad (`follow`), until the pads
+        stop (under a tenth of the jaw speed for 0.05 s) or have had time to close fully. The drive
+        stays on through the lift, as pushmog's simulator's does, until the jaws open again."""
         speed = self.sim["jaw_speed"]
-        closed = -self.scene.gripper["plate_thickness"]
-        left = self.model.jnt_qposadr[self.model.joint("left").id]
-        right = self.model.jnt_qposadr[self.model.joint("right").id]
-        saturated = self.sim["grip_force"] / GRIP_STIFFNESS + 0.001
-        while self.target[4] < closed:
-            self.target[4] = min(closed, self.target[4] + speed * TIMESTEP)
+        self.closing = True
+        last, still = self.opening(), 0
+        for _ in range(int(math.ceil((self.opening() / speed + 0.5) / TIMESTEP))):
             self.step()
-            if self.target[4] - (self.data.qpos[left] - self.data.qpos[right]) > saturated:
-                self.target[4] = closed
-        self.wait(0.05)
+            now = self.opening()
+            still = still + 1 if abs(last - now) < 0.1 * speed * TIMESTEP else 0
+            last = now
+            if still * TIMESTEP >= 0.05:
+                break
+
+    def opening(self) -> float:
+        """Distance between the pads' centres, metres."""
+        return float(self.data.qpos[self.pad_address[1]] - self.data.qpos[self.pad_address[0]])
 
     def pad_on_top(self) -> bool:
         """Whether a pad touches an object with a mostly vertical contact normal (it came down on it)."""

@@ -56,6 +56,38 @@ def test_the_mujoco_model_is_the_scene(tmp_path):
     assert mujoco.mj_version() > 0
 
 
+def test_pads_that_lose_their_object_close_on_at_the_jaw_speed_not_at_once():
+    # The 2F-85's motor closes at a bounded speed: when the object between the pads goes, they
+    # follow at the jaw speed. (The example's servo once jumped to fully closed under the force cap,
+    # and pads that lost an object snapped shut and threw its neighbours.)
+    example = load_example()
+    import numpy as np
+    import pushmog
+
+    scene = pushmog.generate_scene(1, seed=3)
+    sim = pushmog.default_settings("sim")
+    world = example.World(scene, sim)
+    obj = scene.objects[0]
+    yaw = 0.3
+    above = world.tallest() + 0.01
+    world.move(np.array([*world.target[:2], above, world.target[3]]), example.TRANSFER_SPEED)
+    world.set_opening(scene.gripper["stroke"])
+    world.move(np.array([obj.pose.x, obj.pose.y, above, yaw]), example.TRANSFER_SPEED)
+    world.move(np.array([obj.pose.x, obj.pose.y, sim["grasp_height"], yaw]), sim["vertical_speed"])
+    world.close()
+    held = world.opening()
+    thickness = scene.gripper["plate_thickness"]
+    assert held > thickness + 0.01  # the pads stopped on the object
+    world.to_bin(obj.id)
+    steps = 0
+    while world.opening() > thickness + 0.001 and steps < 10_000:
+        world.step()
+        steps += 1
+    lead = sim["grip_force"] / example.GRIP_STIFFNESS + 0.001
+    fastest = (held - thickness - 0.001 - lead) / sim["jaw_speed"]
+    assert steps * example.TIMESTEP >= 0.9 * fastest
+
+
 def test_a_toppled_object_lying_flat_is_seen_as_a_lower_prism_and_one_leaning_is_lost():
     example = load_example()
     import math
