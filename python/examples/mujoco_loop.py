@@ -48,7 +48,7 @@ import pushmog
 
 GRIP_STIFFNESS = 5000.0  # N/m, the pads' servo: the 20 N cap is reached 4 mm behind the target
 NOSLIP = 20  # noslip solver passes: Coulomb friction without the soft-contact creep (see the docstring)
-TIMESTEP = 0.001  # s; objects move well under 0.1 mm per step at these speeds
+TIMESTEP = 0.0005  # s; at 1 ms the stiff, no-slip contacts of a squeezed row sometimes blew up and threw objects at metres per second
 TRANSFER_SPEED = 0.25  # m/s, moves through the air (not timed: only what happens on the table matters)
 BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the table
 STRAIGHT = 1e-7  # sine of the smallest turn a hull keeps at a vertex (pushmog refuses below 1e-9)
@@ -221,9 +221,12 @@ class World:
 
     def close(self) -> None:
         """Closes at the jaw speed with at most the grip force per pad (`follow`), until the pads
-        stop (under a tenth of the jaw speed for 0.05 s) or have had time to close fully. The drive
-        stays on through the lift, as pushmog's simulator's does, until the jaws open again."""
+        have stopped (under a tenth of the jaw speed for 0.05 s) squeezing with the whole grip force,
+        or have had time to close fully. The drive stays on through the lift, as pushmog's
+        simulator's does, until the jaws open again."""
         speed = self.sim["jaw_speed"]
+        squeezing = self.sim["grip_force"] / GRIP_STIFFNESS  # the servo's lead at the force cap
+        closed = -self.scene.gripper["plate_thickness"]
         self.closing = True
         last, still = self.opening(), 0
         for _ in range(int(math.ceil((self.opening() / speed + 0.5) / TIMESTEP))):
@@ -231,7 +234,7 @@ class World:
             now = self.opening()
             still = still + 1 if abs(last - now) < 0.1 * speed * TIMESTEP else 0
             last = now
-            if still * TIMESTEP >= 0.05:
+            if still * TIMESTEP >= 0.05 and (self.target[4] + now >= squeezing or self.target[4] >= closed):
                 break
 
     def opening(self) -> float:
