@@ -159,6 +159,8 @@ class World:
         self.data = mujoco.MjData(self.model)
         self.closing = False  # whether the grip servo is closing (`follow`)
         self.pad_address = [self.model.jnt_qposadr[self.model.joint(side).id] for side in ("left", "right")]
+        self.closed_target = -self.scene.gripper["plate_thickness"]  # the grip servo's target, fully closed
+        self.lead_at_cap = self.sim["grip_force"] / GRIP_STIFFNESS  # the servo's lead at the force cap
         self.objects = {o.id: o for o in self.scene.objects}
         self.body = {o.id: self.model.body(f"object{o.id}").id for o in self.scene.objects}
         self.qpos = {i: self.model.jnt_qposadr[self.model.body_jntadr[b]] for i, b in self.body.items()}
@@ -172,8 +174,8 @@ class World:
         self.target = np.array([0.3, 0.2, 0.3, 0.0, -2 * half])
         for name, value in zip(("x", "y", "z", "yaw"), self.target[:4]):
             self.data.qpos[self.model.jnt_qposadr[self.model.joint(name).id]] = value
-        self.data.qpos[self.model.jnt_qposadr[self.model.joint("left").id]] = -half
-        self.data.qpos[self.model.jnt_qposadr[self.model.joint("right").id]] = half
+        self.data.qpos[self.pad_address[0]] = -half
+        self.data.qpos[self.pad_address[1]] = half
         self.data.ctrl[:] = self.target
         mujoco.mj_forward(self.model, self.data)
         self.wait(0.3)
@@ -190,10 +192,8 @@ class World:
         jaw speed, and never leads the pads by more than the squeeze that gives the grip force. The
         force so stays at its cap while the pads are blocked, and pads whose object slips away follow
         at the jaw speed, as the 2F-85's speed-limited motor does, instead of snapping shut."""
-        closed = -self.scene.gripper["plate_thickness"]
-        pads = self.data.qpos[self.pad_address[0]] - self.data.qpos[self.pad_address[1]]
-        lead = self.sim["grip_force"] / GRIP_STIFFNESS + 0.001
-        self.target[4] = min(closed, self.target[4] + self.sim["jaw_speed"] * TIMESTEP, pads + lead)
+        pads = -self.opening()
+        self.target[4] = min(self.closed_target, self.target[4] + self.sim["jaw_speed"] * TIMESTEP, pads + (self.lead_at_cap + 0.001))
 
     def wait(self, seconds: float) -> None:
         for _ in range(int(round(seconds / TIMESTEP))):
@@ -225,8 +225,6 @@ class World:
         or have had time to close fully. The drive stays on through the lift, as pushmog's
         simulator's does, until the jaws open again."""
         speed = self.sim["jaw_speed"]
-        squeezing = self.sim["grip_force"] / GRIP_STIFFNESS  # the servo's lead at the force cap
-        closed = -self.scene.gripper["plate_thickness"]
         self.closing = True
         last, still = self.opening(), 0
         for _ in range(int(math.ceil((self.opening() / speed + 0.5) / TIMESTEP))):
@@ -234,7 +232,7 @@ class World:
             now = self.opening()
             still = still + 1 if abs(last - now) < 0.1 * speed * TIMESTEP else 0
             last = now
-            if still * TIMESTEP >= 0.05 and (self.target[4] + now >= squeezing or self.target[4] >= closed):
+            if still * TIMESTEP >= 0.05 and (self.target[4] + now >= self.lead_at_cap or self.target[4] >= self.closed_target):
                 break
 
     def opening(self) -> float:

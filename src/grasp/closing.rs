@@ -156,6 +156,19 @@ struct Contact {
     tangent_mass: f64,
 }
 
+impl Contact {
+    /// The contact's normal pointing into `party`, if it is one of the two.
+    fn normal_into(&self, party: Party) -> Option<Vector2<f64>> {
+        if self.b == party {
+            Some(self.normal)
+        } else if self.a == party {
+            Some(-self.normal)
+        } else {
+            None
+        }
+    }
+}
+
 /// The state of a closing: pieces, plates and the physical constants.
 struct World {
     pieces: Vec<Piece>,
@@ -494,16 +507,9 @@ fn finish(world: &World, squeezing: bool) -> Closed {
             .iter()
             .filter(|c| c.normal_impulse > 0.0 || c.separation <= TOUCHING)
             .filter_map(|c| {
-                let inward = if c.b == Party::Piece(i) {
-                    c.normal
-                } else if c.a == Party::Piece(i) {
-                    -c.normal
-                } else {
-                    return None;
-                };
                 Some(Touch {
                     point: c.point,
-                    normal: inward,
+                    normal: c.normal_into(Party::Piece(i))?,
                     friction: c.friction,
                 })
             })
@@ -530,13 +536,7 @@ fn finish(world: &World, squeezing: bool) -> Closed {
                     (c.a, c.b) == (Party::Piece(pair[0]), Party::Piece(pair[1]))
                         || (c.a, c.b) == (Party::Piece(pair[1]), Party::Piece(pair[0]))
                 })
-                .map(|c| {
-                    if c.a == Party::Piece(pair[0]) {
-                        c.normal
-                    } else {
-                        -c.normal
-                    }
-                })
+                .and_then(|c| c.normal_into(Party::Piece(pair[1])))
         })
         .collect();
     Closed {
