@@ -292,6 +292,7 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
             grasp: trip.grasp,
             carried,
             fault: None,
+            lost: Vec::new(),
         };
         assert!(
             verify_trip(&record).is_empty(),
@@ -519,4 +520,82 @@ fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
         context.record_failure(&single);
     }
     assert!(context.failed_together.is_empty());
+}
+
+/// An executor that, after its first grasp, loses one object the grasp left (as if pushed out of
+/// the workspace): the object is no longer seen, and `lost` names it.
+struct LosesOne {
+    table: pushmog::exec::Ideal,
+    lost: Option<pushmog::scene::ObjectId>,
+}
+
+impl pushmog::exec::Executor for LosesOne {
+    fn name(&self) -> &'static str {
+        "loses-one"
+    }
+    fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
+        self.table.reset(scene)
+    }
+    fn push(
+        &mut self,
+        push: &pushmog::push::Push,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        self.table.push(push)
+    }
+    fn grasp(
+        &mut self,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        let result = self.table.grasp(grasp)?;
+        if self.lost.is_none() {
+            let left = self.table.observe()?;
+            let gone = left.objects()[0].id;
+            let kept = left.objects()[1..].to_vec();
+            self.table.reset(&left.with_objects(kept)?)?;
+            self.lost = Some(gone);
+        }
+        Ok(result)
+    }
+    fn observe(&mut self) -> pushmog::Result<Scene> {
+        self.table.observe()
+    }
+    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        self.lost
+            .iter()
+            .map(|&id| (id, "outside the workspace"))
+            .collect()
+    }
+}
+
+/// The trip after which an object was lost names it, once, and the plan file keeps it.
+#[test]
+fn the_trip_that_lost_an_object_names_it() {
+    use pushmog::plan::{LostObject, StopReason};
+    let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
+    let table = scene(2);
+    let mut executor = LosesOne {
+        table: policy.ideal(),
+        lost: None,
+    };
+    let plan = policy.run(&table, &mut executor, 3).unwrap();
+    let gone = executor.lost.expect("the first grasp was made");
+    assert_eq!(
+        plan.trips[0].lost,
+        vec![LostObject {
+            object: gone,
+            reason: "outside the workspace".to_string(),
+        }]
+    );
+    assert!(plan.trips[1..].iter().all(|t| t.lost.is_empty()));
+    match &plan.status {
+        RunStatus::Stopped {
+            remaining,
+            reason: StopReason::NothingPlannable { .. },
+        } => assert_eq!(remaining, &vec![gone]),
+        other => panic!("{other:?}"),
+    }
+    assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+    let text = serde_json::to_string(&plan).unwrap();
+    let read: Plan = serde_json::from_str(&text).unwrap();
+    assert_eq!(read, plan);
 }

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{Fault, Look, Trip};
+use super::{Fault, Look, LostObject, Trip};
 use crate::cluster::Clustering;
 use crate::grasp::Grasp;
 use crate::push::{Push, SkippedPush};
@@ -74,6 +74,9 @@ pub struct TripRecord {
     /// As [`Trip::fault`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<Fault>,
+    /// As [`Trip::lost`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lost: Vec<LostObject>,
 }
 
 /// A look during a trip as written: its scene as the change from the trip's scene.
@@ -181,6 +184,7 @@ pub fn serialize<S: Serializer>(trips: &[Trip], serializer: S) -> Result<S::Ok, 
                 grasp: trip.grasp.clone(),
                 carried: trip.carried.clone(),
                 fault: trip.fault,
+                lost: trip.lost.clone(),
             }
         })
         .collect();
@@ -238,6 +242,7 @@ pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Tri
             grasp: record.grasp,
             carried: record.carried,
             fault: record.fault,
+            lost: record.lost,
         });
     }
     Ok(trips)

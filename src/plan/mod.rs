@@ -47,6 +47,21 @@ pub struct Trip {
     /// trip was not carried out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<Fault>,
+    /// Objects the executor first reported lost (outside the workspace, toppled, lying on another
+    /// object) at an observation after this trip's actions began: at one of its looks, or at the
+    /// observation that followed it. Empty with the ideal executor.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lost: Vec<LostObject>,
+}
+
+/// An object that is still somewhere but can no longer be planned for, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LostObject {
+    /// The object.
+    pub object: ObjectId,
+    /// The executor's reason, such as "outside the workspace" or "toppled".
+    pub reason: String,
 }
 
 /// A new observation during a trip, after its first `after_pushes` pushes.

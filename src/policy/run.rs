@@ -14,7 +14,7 @@ use super::trip::{Landing, TripContext};
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;
-use crate::plan::{Fault, Look, Plan, RunStatus, StopReason, Trip};
+use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
 use crate::time_model::{GraspPath, PushPath};
 
@@ -42,6 +42,8 @@ pub struct Run<'a> {
     timing: RunTiming,
     status: Option<RunStatus>,
     verify_first: bool,
+    /// What the executor reported lost at the last observation.
+    lost_before: Vec<ObjectId>,
 }
 
 impl<'a> Run<'a> {
@@ -71,6 +73,7 @@ impl<'a> Run<'a> {
             timing: RunTiming::default(),
             status: None,
             verify_first: false,
+            lost_before: Vec::new(),
         })
     }
 
@@ -92,6 +95,10 @@ impl<'a> Run<'a> {
         }
         let observed = executor.observe()?;
         let lost = executor.lost();
+        let newly = self.newly_lost(&lost);
+        if let Some(trip) = self.trips.last_mut() {
+            trip.lost.extend(newly);
+        }
         if let Some(reason) = self.stop_reason(&observed, &lost) {
             let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
             remaining.extend(lost.iter().map(|(id, _)| *id));
@@ -124,6 +131,7 @@ impl<'a> Run<'a> {
             grasp: trip.grasp.clone(),
             carried: Vec::new(),
             fault: None,
+            lost: Vec::new(),
         };
         self.refuse_unless_verified(&record)?;
         // Push; then, if anything was pushed, look again and plan the rest of the trip on what is
@@ -151,6 +159,8 @@ impl<'a> Run<'a> {
                 break;
             }
             let after = executor.observe()?;
+            let newly = self.newly_lost(&executor.lost());
+            record.lost.extend(newly);
             let may_push = record.looks.len() < run_settings.max_corrections;
             // Nothing on the table can be grasped: the grasp planned before is made (as the paper
             // would), on the table it was planned for.
@@ -185,6 +195,21 @@ impl<'a> Run<'a> {
         }
         self.trips.push(record);
         Ok(None)
+    }
+
+    /// The objects of `lost` (the executor's report at an observation) that the report before did
+    /// not have; remembers `lost` for the next observation.
+    fn newly_lost(&mut self, lost: &[(ObjectId, &'static str)]) -> Vec<LostObject> {
+        let newly = lost
+            .iter()
+            .filter(|(id, _)| !self.lost_before.contains(id))
+            .map(|&(object, why)| LostObject {
+                object,
+                reason: why.to_string(),
+            })
+            .collect();
+        self.lost_before = lost.iter().map(|(id, _)| *id).collect();
+        newly
     }
 
     /// With [`Run::verify_before_acting`], an error unless the verifier passes the trip as planned

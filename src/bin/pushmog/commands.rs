@@ -264,6 +264,17 @@ pub(crate) fn summary(plan: &Plan, objects: usize) -> String {
         "failed attempts   {}\n",
         plan.failed_attempts.len()
     ));
+    // Trips counted from 1, as in the replay.
+    for (k, trip) in plan.trips.iter().enumerate() {
+        for lost in &trip.lost {
+            out.push_str(&format!(
+                "lost              object {} in trip {} ({})\n",
+                lost.object,
+                k + 1,
+                lost.reason
+            ));
+        }
+    }
     match &plan.status {
         RunStatus::Cleared => out.push_str("status            cleared\n"),
         RunStatus::Stopped { remaining, reason } => out.push_str(&format!(
