@@ -567,7 +567,8 @@ impl pushmog::exec::Executor for LosesOne {
     }
 }
 
-/// The trip after which an object was lost names it, once, and the plan file keeps it.
+/// The trip after which an object was lost names it, once; the plan file keeps it and the replay
+/// shows it.
 #[test]
 fn the_trip_that_lost_an_object_names_it() {
     use pushmog::plan::{LostObject, StopReason};
@@ -598,4 +599,7 @@ fn the_trip_that_lost_an_object_names_it() {
     let text = serde_json::to_string(&plan).unwrap();
     let read: Plan = serde_json::from_str(&text).unwrap();
     assert_eq!(read, plan);
+    let replay =
+        pushmog::render::replay_html(&plan, &pushmog::render::RenderOptions::default()).unwrap();
+    assert!(replay.contains(&format!("lost {gone} (outside the workspace)")));
 }

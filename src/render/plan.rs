@@ -212,6 +212,16 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
                 carried.join(", ")
             }
         );
+        let lost: Vec<String> = trip
+            .lost
+            .iter()
+            .map(|l| format!("{} ({})", l.object, l.reason))
+            .collect();
+        let carried = if lost.is_empty() {
+            carried
+        } else {
+            format!("{carried}; lost {}", lost.join(", "))
+        };
         let stages = stages(trip)?;
         for (stage, (table, pushes)) in stages.iter().enumerate() {
             let look = match stage {
