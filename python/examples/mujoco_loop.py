@@ -227,7 +227,7 @@ class World:
         speed = self.sim["jaw_speed"]
         self.closing = True
         last, still = self.opening(), 0
-        for _ in range(int(math.ceil((self.opening() / speed + 0.5) / TIMESTEP))):
+        for _ in range(int(math.ceil((last / speed + 0.5) / TIMESTEP))):
             self.step()
             now = self.opening()
             still = still + 1 if abs(last - now) < 0.1 * speed * TIMESTEP else 0

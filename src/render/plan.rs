@@ -203,7 +203,7 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
     let mut frames = Vec::with_capacity(plan.trips.len());
     for (k, trip) in plan.trips.iter().enumerate() {
         let carried: Vec<String> = trip.carried.iter().map(|id| id.to_string()).collect();
-        let carried = format!(
+        let mut carried = format!(
             "carried {} ({})",
             trip.carried.len(),
             if carried.is_empty() {
@@ -212,16 +212,14 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
                 carried.join(", ")
             }
         );
-        let lost: Vec<String> = trip
-            .lost
-            .iter()
-            .map(|l| format!("{} ({})", l.object, l.reason))
-            .collect();
-        let carried = if lost.is_empty() {
-            carried
-        } else {
-            format!("{carried}; lost {}", lost.join(", "))
-        };
+        if !trip.lost.is_empty() {
+            let lost: Vec<String> = trip
+                .lost
+                .iter()
+                .map(|l| format!("{} ({})", l.object, l.reason))
+                .collect();
+            carried.push_str(&format!("; lost {}", lost.join(", ")));
+        }
         let stages = stages(trip)?;
         for (stage, (table, pushes)) in stages.iter().enumerate() {
             let look = match stage {
