@@ -5,6 +5,7 @@ use std::path::Path;
 use pushmog::experiment::tables::{results_csv, results_latex, results_markdown};
 use pushmog::experiment::{
     ExperimentConfig, LogRow, RunnerOptions, merge_logs, merge_logs_into, read_log, run_experiment,
+    write_report,
 };
 
 use crate::support::{pushmog, scratch};
@@ -353,4 +354,53 @@ fn a_logged_simulated_run_is_replayed_by_pushmog_run_with_its_run_seed() {
             "{expected:?} not in\n{text}"
         );
     }
+}
+
+#[test]
+fn the_push_distance_figure_is_drawn_when_two_policies_push() {
+    let dir = scratch("experiment-push-distance");
+    let text = r#"
+name = "pushing"
+seed = 5
+[scenes]
+objects = [20]
+count = 2
+[executor]
+kind = "ideal"
+[[policies]]
+name = "sog"
+[[policies]]
+name = "push-mog"
+[[policies]]
+name = "push-mog-socp"
+label = "socp rows"
+"#;
+    let config: ExperimentConfig = toml::from_str(text).unwrap();
+    let log_path = dir.join("pushing.jsonl");
+    run_experiment(&config, Path::new("."), &options(&log_path, (0, 1), None)).unwrap();
+    let log = read_log(&log_path).unwrap();
+    let pushing = log
+        .rows
+        .iter()
+        .filter(|r| r.push_distance > 0.0)
+        .map(|r| r.policy.as_str())
+        .collect::<std::collections::BTreeSet<_>>();
+    assert_eq!(pushing.len(), 2, "both pushing policies push: {pushing:?}");
+    write_report(&log, &dir, &dir).unwrap();
+    let svg = std::fs::read_to_string(dir.join("pushing-push-distance.svg")).unwrap();
+    for label in ["sog", "push-mog", "socp rows", "push distance per run"] {
+        assert!(svg.contains(label), "{label} missing from the figure");
+    }
+    // One pushing policy: nothing to compare, no figure.
+    let single = dir.join("single");
+    let two = dir.join("two.jsonl");
+    run_experiment(
+        &self::config("ideal"),
+        Path::new("."),
+        &options(&two, (0, 1), None),
+    )
+    .unwrap();
+    write_report(&read_log(&two).unwrap(), &single, &single).unwrap();
+    assert!(single.join("tiny-opt.svg").exists());
+    assert!(!single.join("tiny-push-distance.svg").exists());
 }

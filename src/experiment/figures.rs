@@ -6,6 +6,7 @@ use plotters::prelude::*;
 use super::log::Log;
 use super::tables::{PAPER_OPT, summarise};
 use crate::error::{Error, Result};
+use crate::stats::t_95;
 
 const SIZE: (u32, u32) = (720, 440);
 const COLOURS: [RGBColor; 6] = [
@@ -275,4 +276,90 @@ pub fn planning_time_svg(log: &Log) -> Result<String> {
         |g| g.clustering_median * 1e3,
         true,
     )
+}
+
+/// Objects per trip against push distance per run, one point per policy: the mean over its runs,
+/// with a 95 % interval of that mean (Student's t, [`t_95`]) vertically. Policies that push more
+/// should carry more objects per trip; this shows what each metre of pushing buys.
+///
+/// # Errors
+/// A drawing failure, or a log without rows.
+pub fn push_distance_svg(log: &Log) -> Result<String> {
+    let groups = summarise(log);
+    let interval = |g: &super::tables::GroupSummary| {
+        if g.runs < 2 {
+            0.0
+        } else {
+            t_95(g.runs) * g.opt.1 / (g.runs as f64).sqrt()
+        }
+    };
+    let (mut x_hi, mut y_lo, mut y_hi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
+    for g in &groups {
+        x_hi = x_hi.max(g.push_distance);
+        y_lo = y_lo.min(g.opt.0 - interval(g));
+        y_hi = y_hi.max(g.opt.0 + interval(g));
+    }
+    if !y_lo.is_finite() {
+        return Err(Error::field("figure", "log", "the log has no rows to plot"));
+    }
+    let y_pad = ((y_hi - y_lo) * 0.08).max(0.01);
+    // Two more colours than the other figures need: a trade-off compares many variants.
+    let colours: Vec<RGBColor> = COLOURS
+        .iter()
+        .copied()
+        .chain([RGBColor(0x9c, 0x75, 0x5f), RGBColor(0x33, 0x33, 0x33)])
+        .collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!(
+                    "Objects per trip against push distance ({}, {} executor)",
+                    log.header.config.name,
+                    executor(log)
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(
+                -0.02f64..(x_hi * 1.08).max(0.05),
+                (y_lo - y_pad)..(y_hi + y_pad),
+            )
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("push distance per run (m)")
+            .y_desc("objects per trip (mean, 95 % interval)")
+            .draw()
+            .map_err(plot_error)?;
+        for (k, g) in groups.iter().enumerate() {
+            let colour = colours[k % colours.len()];
+            let (x, y, e) = (g.push_distance, g.opt.0, interval(g));
+            chart
+                .draw_series(std::iter::once(ErrorBar::new_vertical(
+                    x,
+                    y - e,
+                    y,
+                    y + e,
+                    colour.filled().stroke_width(2),
+                    10,
+                )))
+                .map_err(plot_error)?
+                .label(g.policy.clone())
+                .legend(move |(px, py)| Circle::new((px + 8, py), 5, colour.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(plot_error)?;
+        root.present().map_err(plot_error)?;
+    }
+    Ok(svg)
 }

@@ -3,9 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use super::figures::{friction_svg, opt_per_policy_svg, picks_per_hour_svg, planning_time_svg};
+use super::figures::{
+    friction_svg, opt_per_policy_svg, picks_per_hour_svg, planning_time_svg, push_distance_svg,
+};
 use super::log::Log;
-use super::tables::{results_csv, results_latex, results_markdown, timing_csv, timing_markdown};
+use super::tables::{
+    results_csv, results_latex, results_markdown, summarise, timing_csv, timing_markdown,
+};
 use crate::error::Result;
 use crate::json::write_text;
 
@@ -17,8 +21,9 @@ pub struct ReportPaths {
 }
 
 /// Writes the tables of `log` to `tables` (as `<name>.md`, `.csv`, `.tex`, and `<name>-timing.*`)
-/// and its figures to `figures` (`<name>-opt.svg`, and the bin-distance, friction or object-count plot
-/// when the log sweeps those).
+/// and its figures to `figures` (`<name>-opt.svg`; the bin-distance, friction or object-count plot
+/// when the log sweeps those; objects per trip against push distance, `<name>-push-distance.svg`,
+/// when it sweeps nothing and two or more of its policies push).
 ///
 /// # Errors
 /// I/O and drawing errors.
@@ -59,6 +64,19 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
         put(
             figures.join(format!("{name}-planning-time.svg")),
             planning_time_svg(log)?,
+        )?;
+    }
+    let sweeps = config.sweep.bin_distance.len() > 1
+        || config.sweep.friction.len() > 1
+        || config.scenes.objects.len() > 1;
+    let pushing = summarise(log)
+        .iter()
+        .filter(|g| g.push_distance > 0.0)
+        .count();
+    if !sweeps && pushing >= 2 {
+        put(
+            figures.join(format!("{name}-push-distance.svg")),
+            push_distance_svg(log)?,
         )?;
     }
     Ok(ReportPaths { files })
