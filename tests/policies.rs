@@ -603,3 +603,45 @@ fn the_trip_that_lost_an_object_names_it() {
         pushmog::render::replay_html(&plan, &pushmog::render::RenderOptions::default()).unwrap();
     assert!(replay.contains(&format!("lost {gone} (outside the workspace)")));
 }
+
+/// A row of three bars (7 × 50 mm) that pushes left broken: two stand 20 mm apart, the third 50 mm
+/// beyond, so the three span 77 mm, more than the 75 mm the jaws take. As it lies, a grasp takes
+/// the two; a corrective push lets one grasp take all three, and when pushes are allowed it comes
+/// first. Without pushes, the two are taken.
+#[test]
+fn a_broken_row_is_pushed_whole_before_part_of_it_is_taken() {
+    use crate::support::boxes;
+    use pushmog::policy::TripContext;
+    let row = boxes(0.007, 0.05, &[(0.15, 0.2), (0.17, 0.2), (0.19, 0.2)]);
+    let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let trip = policy.plan_trip(&row).unwrap().value.unwrap();
+    let cluster = &trip.clustering.clusters[trip.cluster.unwrap()];
+    assert_eq!(cluster.len(), 3, "the three bars form one cluster");
+    assert_eq!(
+        trip.grasp.objects.len(),
+        3,
+        "and are taken together as they stand"
+    );
+    let broken = boxes(0.007, 0.05, &[(0.15, 0.2), (0.17, 0.2), (0.22, 0.2)]);
+    let context = TripContext::new(0);
+    let corrected = policy
+        .correct_trip(&broken, &trip, &context, true)
+        .unwrap()
+        .unwrap();
+    assert!(
+        !corrected.pushes.is_empty(),
+        "a corrective push comes first"
+    );
+    assert_eq!(corrected.grasp.objects.len(), 3, "{:?}", corrected.grasp);
+    let as_it_lies = policy
+        .correct_trip(&broken, &trip, &context, false)
+        .unwrap()
+        .unwrap();
+    assert!(as_it_lies.pushes.is_empty());
+    let mut taken = as_it_lies.grasp.objects.clone();
+    taken.sort();
+    assert_eq!(
+        taken,
+        [pushmog::scene::ObjectId(0), pushmog::scene::ObjectId(1)]
+    );
+}

@@ -433,9 +433,11 @@ impl Policy {
     /// jaws planned on the prediction can come down on a pushed object or catch a broken row; here
     /// they are planned on where the objects are. In order:
     /// - the trip's cluster (its objects still seen) grasped together as it lies, when the
-    ///   multi-object planner finds a grasp of two or more (the planned jaws offered as a candidate);
+    ///   multi-object planner finds a grasp of all of them (the planned jaws offered as a candidate);
     /// - with `may_push`, corrective pushes of the cluster planned afresh, when a multi-object grasp
-    ///   follows them (as in the trip's first plan);
+    ///   follows them (as in the trip's first plan) that takes more of the cluster than any grasp
+    ///   of it as it lies;
+    /// - a grasp of two or more of the cluster's objects as they lie;
     /// - one of the cluster's objects by itself; else any object by itself.
     ///
     /// The returned plan's clustering and cluster are the trip's. `None` when no object on the table
@@ -472,15 +474,22 @@ impl Policy {
             let outcome =
                 self.multi
                     .plan_several(observed, &members, &[trip.grasp.jaws], &[], avoid)?;
-            if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
-                return Ok(Some(next(Vec::new(), skipped, grasp)));
+            let as_it_lies = outcome.value.filter(|g| context.together(g));
+            let taken = as_it_lies.as_ref().map_or(0, |g| g.objects.len());
+            if taken == members.len() {
+                return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp)));
             }
+            // Part of the cluster can be taken as it lies (a row of three or more broken by the
+            // pushes): corrective pushes come first when the grasp after them takes more of it.
             if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
                 let (pushed, why_not) = self.push_draft(pusher, observed, &members, context)?;
                 skipped = why_not;
-                if let Some((pushes, grasp)) = pushed {
+                if let Some((pushes, grasp)) = pushed.filter(|(_, g)| g.objects.len() > taken) {
                     return Ok(Some(next(pushes, skipped, grasp)));
                 }
+            }
+            if let Some(grasp) = as_it_lies {
+                return Ok(Some(next(Vec::new(), skipped, grasp)));
             }
         }
         if let Some(grasp) = self.single.plan_avoiding(observed, &members, avoid)?.value {
