@@ -433,11 +433,12 @@ impl Policy {
     /// jaws planned on the prediction can come down on a pushed object or catch a broken row; here
     /// they are planned on where the objects are. In order:
     /// - the trip's cluster (its objects still seen) grasped together as it lies, when the
-    ///   multi-object planner finds a grasp of all of them (the planned jaws offered as a candidate);
+    ///   multi-object planner finds a grasp of as many objects as the cluster has (the planned jaws
+    ///   offered as a candidate; a grasp may also catch an object outside the cluster);
     /// - with `may_push`, corrective pushes of the cluster planned afresh, when a multi-object grasp
-    ///   follows them (as in the trip's first plan) that takes more of the cluster than any grasp
-    ///   of it as it lies;
-    /// - a grasp of two or more of the cluster's objects as they lie;
+    ///   follows them (as in the trip's first plan) that takes more objects than the best grasp of
+    ///   the cluster as it lies;
+    /// - that grasp as it lies, when it takes two or more;
     /// - one of the cluster's objects by itself; else any object by itself.
     ///
     /// The returned plan's clustering and cluster are the trip's. `None` when no object on the table
@@ -479,8 +480,8 @@ impl Policy {
             if taken == members.len() {
                 return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp)));
             }
-            // Part of the cluster can be taken as it lies (a row of three or more broken by the
-            // pushes): corrective pushes come first when the grasp after them takes more of it.
+            // Fewer objects than the cluster has can be taken as it lies (a row of three or more
+            // broken by the pushes): corrective pushes come first when their grasp takes more.
             if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
                 let (pushed, why_not) = self.push_draft(pusher, observed, &members, context)?;
                 skipped = why_not;
