@@ -349,13 +349,7 @@ pub fn agreement_svg(replays: &[Replay], title: &str) -> Result<String> {
                 )
                 .map_err(|e| plot(&e))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| plot(&e))?;
+        super::figures::draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)?;
         root.present().map_err(|e| plot(&e))?;
     }
     Ok(svg)

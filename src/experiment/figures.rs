@@ -22,6 +22,21 @@ fn plot_error<E: std::fmt::Display>(e: E) -> Error {
     Error::field("figure", "plot", e.to_string())
 }
 
+/// The chart's series legend at `position`, on a translucent white box with a black border, as
+/// every figure draws it.
+pub(super) fn draw_legend<'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    position: SeriesLabelPosition,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_error)
+}
+
 /// Objects per trip per policy with one-standard-deviation error bars; the paper's physical figures as
 /// hollow markers where they exist.
 ///
@@ -113,13 +128,7 @@ pub fn opt_per_policy_svg(log: &Log) -> Result<String> {
                 }
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(plot_error)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
@@ -197,12 +206,8 @@ fn lines_svg(
                         )
                         .map_err(plot_error)?;
                 }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(plot_error)?;
+                // plotters' default place for the legend.
+                draw_legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
             }};
         }
         let mut builder = ChartBuilder::on(&root);
@@ -352,13 +357,7 @@ pub fn push_distance_svg(log: &Log) -> Result<String> {
                 .label(g.policy.clone())
                 .legend(move |(px, py)| Circle::new((px + 8, py), 5, colour.filled()));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(plot_error)?;
+        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
