@@ -9,8 +9,10 @@
 //! - a **jaw command** changing the opening by `Δ`: `|Δ| / v_jaw`, plus `gripper_settle`.
 //!
 //! A trip starts and ends at the bin with the jaws fully open. Each fork push follows the Push-MOG
-//! paper's five steps: jaws to the fork opening, travel above the approach point, descend
-//! `approach_height`, push, rise. The grasp follows its six: travel above the grasp, jaws to the planned
+//! paper's five steps: jaws to the push's opening, travel above the approach point, descend
+//! `approach_height`, push, rise; the jaw command is left out (neither sent by the UR5 executor nor
+//! charged) when the jaws already stand at that opening, as they do for every fork push after a
+//! trip's first. The grasp follows its six: travel above the grasp, jaws to the planned
 //! opening, descend, close onto the row, lift and travel to the bin, open fully. Travel is `bin_distance`
 //! from the bin to the first action, then the straight distance between successive actions inside the
 //! workspace. Every observation (each trip and each planning attempt that found nothing) costs
@@ -92,9 +94,9 @@ impl Default for TimeModel {
     }
 }
 
-/// One command of an action.
+/// One command of an action, as the time model charges it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Command {
+pub enum Command {
     /// An arm move of this length, metres.
     Arm(f64),
     /// A push stroke of this length, metres.
@@ -122,6 +124,8 @@ pub struct PushPath {
     pub approach: Point2<f64>,
     /// Gripper centre where the push ends.
     pub end: Point2<f64>,
+    /// Opening between plate centres during the push, metres (the fork opening for a fork push).
+    pub opening: f64,
 }
 
 /// A grasp as the time model sees it.
@@ -198,7 +202,8 @@ impl TimeModel {
         trapezoid_seconds(distance, self.travel_speed, self.travel_acceleration)
     }
 
-    fn seconds(&self, commands: &[Command]) -> f64 {
+    /// Seconds of these commands, each its motion plus its settle time.
+    pub fn seconds(&self, commands: &[Command]) -> f64 {
         commands
             .iter()
             .map(|command| match *command {
@@ -212,6 +217,19 @@ impl TimeModel {
     /// Seconds of one trip as executed: its fork pushes, then the grasp and the run to the bin and
     /// back (no observation time).
     pub fn trip_seconds(&self, gripper: &Gripper, pushes: &[PushPath], grasp: &GraspPath) -> f64 {
+        self.seconds(&self.trip_commands(gripper, pushes, grasp))
+    }
+
+    /// The commands of one trip, in order, as [`TimeModel::trip_seconds`] charges them: per push a
+    /// jaw command to its opening (left out when the jaws stand there already), travel, descend,
+    /// push, rise; then travel to the grasp, jaws to the grasp's opening, descend, close, lift, to the
+    /// bin, open fully.
+    pub fn trip_commands(
+        &self,
+        gripper: &Gripper,
+        pushes: &[PushPath],
+        grasp: &GraspPath,
+    ) -> Vec<Command> {
         let mut commands = Vec::with_capacity(5 * pushes.len() + 7);
         let mut at: Option<Point2<f64>> = None;
         let mut jaws = gripper.stroke;
@@ -221,9 +239,10 @@ impl TimeModel {
             Command::Arm(distance)
         };
         for push in pushes {
-            let fork = gripper.fork_push_opening();
-            commands.push(Command::Jaws(jaws - fork));
-            jaws = fork;
+            if push.opening != jaws {
+                commands.push(Command::Jaws(jaws - push.opening));
+                jaws = push.opening;
+            }
             commands.push(travel(push.approach, &mut at));
             commands.push(Command::Arm(self.approach_height));
             commands.push(Command::Push(nalgebra::distance(&push.approach, &push.end)));
@@ -237,7 +256,7 @@ impl TimeModel {
         commands.push(Command::Arm(self.approach_height));
         commands.push(Command::Arm(self.bin_distance));
         commands.push(Command::Jaws(gripper.stroke - grasp.closed));
-        self.seconds(&commands)
+        commands
     }
 
     /// The grasp of a single object of [`NOMINAL_WIDTH`], jaws opened by the single-object planner's
@@ -257,13 +276,20 @@ impl TimeModel {
         self.trip_seconds(gripper, &[], &Self::nominal_grasp(gripper))
     }
 
-    /// Seconds one fork push of `distance` metres adds to a trip, estimated with the fingers lowered
-    /// `distance` from where the previous action ended: the planning estimate of a push's cost.
+    /// Seconds one fork push of `distance` metres adds to a trip as its first push, estimated with
+    /// the fingers lowered `distance` from where the previous action ended: the planning estimate of a
+    /// push's cost.
     pub fn nominal_push_seconds(&self, gripper: &Gripper, distance: f64) -> f64 {
+        // Jaws to the fork opening, then the push's own moves.
+        self.seconds(&[Command::Jaws(gripper.stroke - gripper.fork_push_opening())])
+            + self.nominal_later_push_seconds(distance)
+    }
+
+    /// Seconds a fork push of `distance` metres adds to a trip after another fork push, the jaws
+    /// already at the fork opening: travel, descend, push, rise.
+    pub fn nominal_later_push_seconds(&self, distance: f64) -> f64 {
         let distance = distance.max(0.0);
-        // Jaws to the fork opening, travel, descend, push, rise.
         self.seconds(&[
-            Command::Jaws(gripper.stroke - gripper.fork_push_opening()),
             Command::Arm(distance),
             Command::Arm(self.approach_height),
             Command::Push(distance),
@@ -332,14 +358,52 @@ mod tests {
         let near = PushPath {
             approach: Point2::new(0.0, 0.02),
             end: Point2::new(0.0, 0.01),
+            opening: gripper.fork_push_opening(),
         };
         let far = PushPath {
             approach: Point2::new(0.0, 0.30),
             end: Point2::new(0.0, 0.29),
+            opening: gripper.fork_push_opening(),
         };
         assert!(
             model.trip_seconds(&gripper, &[far], &grasp)
                 > model.trip_seconds(&gripper, &[near], &grasp)
         );
+    }
+
+    #[test]
+    fn only_the_first_of_several_fork_pushes_moves_the_jaws() {
+        let (model, gripper) = (TimeModel::default(), Gripper::default());
+        let grasp = TimeModel::nominal_grasp(&gripper);
+        let push = |y: f64| PushPath {
+            approach: Point2::new(0.0, y + 0.01),
+            end: Point2::new(0.0, y),
+            opening: gripper.fork_push_opening(),
+        };
+        let jaw_commands = |pushes: &[PushPath]| {
+            model
+                .trip_commands(&gripper, pushes, &grasp)
+                .iter()
+                .filter(|c| matches!(c, Command::Jaws(_)))
+                .count()
+        };
+        // The grasp's three jaw commands, plus one for the first push only.
+        assert_eq!(jaw_commands(&[]), 3);
+        assert_eq!(jaw_commands(&[push(0.0)]), 4);
+        assert_eq!(jaw_commands(&[push(0.0), push(0.05), push(0.1)]), 4);
+        // A push at another opening (a separating push, jaws nearly closed) moves them again.
+        let narrow = PushPath {
+            opening: gripper.plate_thickness + 0.002,
+            ..push(0.2)
+        };
+        assert_eq!(jaw_commands(&[push(0.0), narrow]), 5);
+        // The estimate of a later push is the first push's without its jaw command.
+        let jaw =
+            (gripper.stroke - gripper.fork_push_opening()) / model.jaw_speed + model.gripper_settle;
+        let (first, later) = (
+            model.nominal_push_seconds(&gripper, 0.04),
+            model.nominal_later_push_seconds(0.04),
+        );
+        assert!((first - later - jaw).abs() < 1e-12);
     }
 }

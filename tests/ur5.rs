@@ -15,6 +15,7 @@ use pushmog::plan::Plan;
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
 use pushmog::random::SeededRng;
 use pushmog::scene::SceneSpec;
+use pushmog::time_model::{Command, GraspPath, PushPath, TimeModel};
 
 use crate::support::{fixture, pushmog, scratch};
 
@@ -100,9 +101,83 @@ fn a_whole_plan_reaches_the_fakes_step_by_step() {
     for axis in 0..3 {
         assert!((end.tcp_pose[axis] - config.bin.drop[axis]).abs() < 1e-5);
     }
-    // Five steps per push, six per grasp.
+    // Five steps per push (four when the jaws already stand at its opening), six per grasp.
     let pushes: usize = plan.trips.iter().map(|t| t.pushes.len()).sum();
-    assert_eq!(steps.len(), 5 * pushes + 6 * plan.trips.len());
+    let jaws_kept: usize = plan
+        .trips
+        .iter()
+        .map(|t| {
+            t.pushes
+                .windows(2)
+                .filter(|p| p[0].fork.opening == p[1].fork.opening)
+                .count()
+        })
+        .sum();
+    assert_eq!(steps.len(), 5 * pushes - jaws_kept + 6 * plan.trips.len());
+}
+
+/// Whether each command is an arm move (`false`) or a jaw command (`true`).
+fn command_kinds(commands: &[Command]) -> Vec<bool> {
+    commands
+        .iter()
+        .map(|c| matches!(c, Command::Jaws(_)))
+        .collect()
+}
+
+/// The same for robot steps: one arm command per linear move, one jaw command per gripper step.
+fn step_kinds(steps: &[pushmog::exec::ur5::Step]) -> Vec<bool> {
+    steps
+        .iter()
+        .flat_map(|step| match &step.action {
+            Action::Move { moves } => vec![false; moves.len()],
+            Action::Gripper { .. } => vec![true],
+        })
+        .collect()
+}
+
+#[test]
+fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
+    let translator = Translator::new(example_config()).unwrap();
+    let model = TimeModel::default();
+    // The fixture, and a push-mog-opt run whose trips push up to three objects.
+    let scene = pushmog::scene::generate_scene(
+        &pushmog::scene::GeneratorSettings::default(),
+        &pushmog::scene::builtin_object_set(),
+        4,
+    )
+    .unwrap();
+    let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let run = policy.run(&scene, &mut policy.ideal(), 4).unwrap();
+    assert!(
+        run.trips.iter().any(|t| t.pushes.len() >= 2),
+        "a trip with two pushes or more"
+    );
+    let mut jaws_left_out = 0;
+    for plan in [fixture_plan(), run] {
+        for (t, trip) in plan.trips.iter().enumerate() {
+            let scene = pushmog::scene::Scene::new(trip.scene.clone()).unwrap();
+            let gripper = scene.gripper();
+            let steps = translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1);
+            let pushes: Vec<PushPath> = trip
+                .pushes
+                .iter()
+                .map(|p| PushPath {
+                    approach: p.fork.approach,
+                    end: p.fork.end,
+                    opening: p.fork.opening,
+                })
+                .collect();
+            let grasp = GraspPath {
+                center: trip.grasp.jaws.center,
+                opening: trip.grasp.jaws.opening,
+                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
+            };
+            let charged = model.trip_commands(gripper, &pushes, &grasp);
+            assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
+            jaws_left_out += 5 * trip.pushes.len() + 7 - charged.len();
+        }
+    }
+    assert!(jaws_left_out > 0, "some push found the jaws at its opening");
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //!   the central one (the member nearest the cluster's mean centroid, as in the paper's pushes). A
 //!   push is estimated as moving the member straight at the central object until their narrowest
 //!   widths meet, `ℓ_o = max(0, ‖M_o − M_m‖ − (d*_o + d*_m)/2)`, costing `T_push(ℓ_o)`; members with
-//!   `ℓ_o` below `min_push` are not pushed.
+//!   `ℓ_o` below `min_push` are not pushed. Only the first push moves the jaws to the fork opening.
 //! - **fewest clusters, then least spread**: each cluster costs `1 + ε·σ(c)` with spread
 //!   `σ(c) = Σ_{o∈c} ‖M_o − M̄_c‖`. `ε` is set so the spread of a whole clustering is worth less than
 //!   one cluster: `ε = 1/(1 + n·D)` with `D` the largest centroid diameter among the candidates.
@@ -75,10 +75,15 @@ impl<'a> CostModel<'a> {
     /// Predicted seconds of one cluster: its trip and its pushes.
     pub fn predicted_seconds(&self, members: &[usize]) -> f64 {
         let gripper = self.scene.gripper();
+        // The first push moves the jaws to the fork opening; the later ones find them there.
         let pushes: f64 = estimated_pushes(self.scene, members)
             .into_iter()
             .filter(|&length| length >= self.min_push)
-            .map(|length| self.model.nominal_push_seconds(gripper, length))
+            .enumerate()
+            .map(|(k, length)| match k {
+                0 => self.model.nominal_push_seconds(gripper, length),
+                _ => self.model.nominal_later_push_seconds(length),
+            })
             .sum();
         self.model.nominal_trip_seconds(gripper) + pushes
     }

@@ -275,6 +275,9 @@ pub struct Ur5<L: RobotLink> {
     scene: Option<Scene>,
     /// Whether the arm has pushed since the table was last read.
     pushed: bool,
+    /// The jaws' opening when the gripper's last command was a fork push's (`None` after a grasp:
+    /// the jaws are fully open at the bin).
+    jaws: Option<f64>,
     record: Vec<ExecutedTrip>,
 }
 
@@ -286,6 +289,7 @@ impl<L: RobotLink> Ur5<L> {
             observation,
             scene: None,
             pushed: false,
+            jaws: None,
             record: Vec::new(),
         }
     }
@@ -331,6 +335,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
     fn reset(&mut self, scene: &Scene) -> Result<()> {
         self.scene = Some(scene.clone());
         self.pushed = false;
+        self.jaws = None;
         self.record.clear();
         Ok(())
     }
@@ -341,9 +346,10 @@ impl<L: RobotLink> Executor for Ur5<L> {
         let steps = self
             .runner
             .translator()
-            .fork_push(self.scene()?, push, &name);
+            .fork_push(self.scene()?, push, &name, self.jaws);
         self.runner.run(steps)?;
         self.pushed = true;
+        self.jaws = Some(push.fork.opening);
         self.current_trip()?.pushes.push(push.clone());
         Ok(None)
     }
@@ -355,6 +361,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
             .runner
             .translator()
             .grasp_and_trip(self.scene()?, grasp, &name);
+        self.jaws = None;
         self.runner.run(steps)?;
         self.current_trip()?.grasp = Some(grasp.clone());
         let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();

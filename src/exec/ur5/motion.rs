@@ -211,8 +211,17 @@ impl Translator {
         }
     }
 
-    /// The five steps of a fork push planned on `scene`; `name` prefixes the labels.
-    pub fn fork_push(&self, scene: &Scene, push: &Push, name: &str) -> Vec<Step> {
+    /// The five steps of a fork push planned on `scene`, or four when the jaws already stand at its
+    /// opening (`jaws`, the opening of the gripper's last command, if that was a push's): a jaw
+    /// command that would not move them is not sent, and the time model does not charge it. `name`
+    /// prefixes the labels.
+    pub fn fork_push(
+        &self,
+        scene: &Scene,
+        push: &Push,
+        name: &str,
+        jaws: Option<f64>,
+    ) -> Vec<Step> {
         let fork = &push.fork;
         let travel = self.travel_height(scene);
         // The planned fingertip height (chosen so the object slides), or the configured fraction of
@@ -227,7 +236,7 @@ impl Translator {
         let vertical = self.config.speeds.vertical;
         let opening = fork.opening;
         let pose = |p: nalgebra::Point2<f64>, z| self.tool_pose(p.x, p.y, z, fork.jaw_angle);
-        vec![
+        let open = (jaws != Some(opening)).then(|| {
             self.gripper(
                 Phase::OpenForPush,
                 format!(
@@ -235,32 +244,36 @@ impl Translator {
                     opening * 1e3
                 ),
                 self.config.gripper.count_for_opening(opening),
-            ),
-            Self::moves(
-                Phase::AbovePush,
-                format!("{name}: move above the start"),
-                vec![self.travel(pose(fork.approach, travel))],
-            ),
-            Self::moves(
-                Phase::DescendToPush,
-                format!(
-                    "{name}: descend to {which} of object {} ({:.1} mm)",
-                    push.object,
-                    mid * 1e3
+            )
+        });
+        open.into_iter()
+            .chain([
+                Self::moves(
+                    Phase::AbovePush,
+                    format!("{name}: move above the start"),
+                    vec![self.travel(pose(fork.approach, travel))],
                 ),
-                vec![self.contact(pose(fork.approach, mid), vertical)],
-            ),
-            Self::moves(
-                Phase::Push,
-                format!("{name}: push {:.1} mm to the end", push.distance * 1e3),
-                vec![self.contact(pose(fork.end, mid), self.config.speeds.push)],
-            ),
-            Self::moves(
-                Phase::RiseFromPush,
-                format!("{name}: rise"),
-                vec![self.contact(pose(fork.end, travel), vertical)],
-            ),
-        ]
+                Self::moves(
+                    Phase::DescendToPush,
+                    format!(
+                        "{name}: descend to {which} of object {} ({:.1} mm)",
+                        push.object,
+                        mid * 1e3
+                    ),
+                    vec![self.contact(pose(fork.approach, mid), vertical)],
+                ),
+                Self::moves(
+                    Phase::Push,
+                    format!("{name}: push {:.1} mm to the end", push.distance * 1e3),
+                    vec![self.contact(pose(fork.end, mid), self.config.speeds.push)],
+                ),
+                Self::moves(
+                    Phase::RiseFromPush,
+                    format!("{name}: rise"),
+                    vec![self.contact(pose(fork.end, travel), vertical)],
+                ),
+            ])
+            .collect()
     }
 
     /// The six steps of a grasp and its trip to the bin, planned on `scene`.
@@ -316,9 +329,11 @@ impl Translator {
     /// All steps of one trip: its pushes in order, then its grasp and the trip to the bin.
     pub fn trip(&self, scene: &Scene, pushes: &[Push], grasp: &Grasp, trip: usize) -> Vec<Step> {
         let mut steps = Vec::new();
+        let mut jaws = None;
         for (k, push) in pushes.iter().enumerate() {
             let name = format!("trip {trip}, push {} of {}", k + 1, pushes.len());
-            steps.extend(self.fork_push(scene, push, &name));
+            steps.extend(self.fork_push(scene, push, &name, jaws));
+            jaws = Some(push.fork.opening);
         }
         steps.extend(self.grasp_and_trip(scene, grasp, &format!("trip {trip}, grasp")));
         steps
