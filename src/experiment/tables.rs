@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use super::log::{Log, LogRow};
 use super::runner::quantile;
-use crate::stats::{mean, mean_std};
+use crate::stats::{mean, mean_std, t_95};
 
 /// The Push-MOG paper's physical results (UR5 + 2F-85, 5 scenes of 34 objects, bin adjacent): objects
 /// per trip, mean and standard deviation, by the policy they correspond to.
@@ -47,6 +47,13 @@ pub struct GroupSummary {
     pub robot_seconds: f64,
     /// Mean picks per hour.
     pub picks_per_hour: f64,
+    /// Half-width of the 95 % interval of the mean picks per hour (Student's t).
+    pub picks_per_hour_95: f64,
+    /// Picks per hour as a ratio to sog's on the same scenes (same scene seed and repetition, the
+    /// same object count, bin distance and friction): the mean of the per-scene ratios and the
+    /// half-width of its 95 % interval. `None` for sog itself, or when the log has no sog run of
+    /// those scenes.
+    pub versus_sog: Option<(f64, f64)>,
     /// Median over runs of the median planning time, seconds (wall-clock).
     pub planning_median: f64,
     /// 95th percentile over runs of the 95th-percentile planning time, seconds (wall-clock).
@@ -111,6 +118,10 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
             let p95s: Vec<f64> = rows.iter().map(|r| r.timing.planning_p95).collect();
             let clustering: Vec<f64> = rows.iter().map(|r| r.timing.clustering_median).collect();
             let cpu: Vec<f64> = rows.iter().map(|r| r.timing.cpu).collect();
+            let picks: Vec<f64> = rows.iter().map(|r| r.picks_per_hour).collect();
+            let versus_sog = (label != "sog")
+                .then(|| paired_with_sog(log, &rows))
+                .flatten();
             GroupSummary {
                 policy: label,
                 objects,
@@ -125,14 +136,50 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                 landings: mean(rows.iter().map(|r| r.landings as f64)),
                 cleared: rows.iter().filter(|r| r.cleared).count(),
                 robot_seconds: mean(rows.iter().map(|r| r.robot_seconds)),
-                picks_per_hour: mean(rows.iter().map(|r| r.picks_per_hour)),
+                picks_per_hour: mean(picks.iter().copied()),
+                picks_per_hour_95: interval_95(&picks),
                 planning_median: quantile(&medians, 0.5),
                 planning_p95: quantile(&p95s, 0.95),
                 clustering_median: quantile(&clustering, 0.5),
                 cpu_median: quantile(&cpu, 0.5),
+                versus_sog,
             }
         })
         .collect()
+}
+
+/// Half-width of the 95 % interval of the mean of `values` (Student's t); 0 for fewer than two.
+fn interval_95(values: &[f64]) -> f64 {
+    if values.len() < 2 {
+        return 0.0;
+    }
+    t_95(values.len()) * mean_std(values).1 / (values.len() as f64).sqrt()
+}
+
+/// The mean and 95 % half-width of `rows`' picks per hour divided by sog's on the same scene
+/// (scene seed, repetition, object count, bin distance and friction); `None` when no row has a sog
+/// partner in `log`.
+fn paired_with_sog(log: &Log, rows: &[&LogRow]) -> Option<(f64, f64)> {
+    let ratios: Vec<f64> = rows
+        .iter()
+        .filter_map(|row| {
+            let sog = log.rows.iter().find(|r| {
+                r.policy == "sog"
+                    && r.scene_seed == row.scene_seed
+                    && r.repetition == row.repetition
+                    && r.objects == row.objects
+                    && r.bin_distance.to_bits() == row.bin_distance.to_bits()
+                    && friction_key(r.friction) == friction_key(row.friction)
+            })?;
+            (sog.picks_per_hour > 0.0).then(|| row.picks_per_hour / sog.picks_per_hour)
+        })
+        .collect();
+    (!ratios.is_empty()).then(|| (mean(ratios.iter().copied()), interval_95(&ratios)))
+}
+
+/// A ratio to sog with its interval, or `–`.
+fn versus_sog_text(versus: Option<(f64, f64)>) -> String {
+    versus.map_or("–".to_string(), |(m, h)| format!("{m:.3} ± {h:.3}"))
 }
 
 /// The paper's figure for a group, when the group matches the paper's setup (34 objects, the bin
@@ -216,8 +263,8 @@ pub fn results_markdown(log: &Log) -> String {
         head.push_str(" friction |");
         rule.push_str("---:|");
     }
-    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | landings | cleared | robot time (s) | picks per hour |");
-    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | landings | cleared | robot time (s) | picks per hour | picks per hour / sog's, paired |");
+    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let _ = writeln!(out, "{head}");
     let _ = writeln!(out, "{rule}");
     for g in &groups {
@@ -229,7 +276,7 @@ pub fn results_markdown(log: &Log) -> String {
             paper_reference(g).map_or("–".to_string(), |(m, s)| format!("{m:.3} ± {s:.3}"));
         let _ = writeln!(
             line,
-            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {:.2} | {}/{} | {:.1} | {:.0} |",
+            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {:.2} | {}/{} | {:.1} | {:.1} ± {:.1} | {} |",
             g.runs,
             g.opt.0,
             g.opt.1,
@@ -241,7 +288,9 @@ pub fn results_markdown(log: &Log) -> String {
             g.cleared,
             g.runs,
             g.robot_seconds,
-            g.picks_per_hour
+            g.picks_per_hour,
+            g.picks_per_hour_95,
+            versus_sog_text(g.versus_sog)
         );
         out.push_str(&line);
     }
@@ -303,13 +352,13 @@ fn cpu_text(seconds: f64) -> String {
 /// The results as CSV (one line per group; no wall-clock columns).
 pub fn results_csv(log: &Log) -> String {
     let mut out = String::from(
-        "policy,objects,bin_distance,friction,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,landings,cleared,robot_seconds,picks_per_hour\n",
+        "policy,objects,bin_distance,friction,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,landings,cleared,robot_seconds,picks_per_hour,picks_per_hour_95,versus_sog,versus_sog_95\n",
     );
     for g in summarise(log) {
         let paper = paper_reference(&g);
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{:.4},{},{:.4},{:.4}",
+            "{},{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{:.4},{},{:.4},{:.4},{:.4},{},{}",
             g.policy,
             g.objects,
             g.bin_distance,
@@ -326,7 +375,12 @@ pub fn results_csv(log: &Log) -> String {
             g.landings,
             g.cleared,
             g.robot_seconds,
-            g.picks_per_hour
+            g.picks_per_hour,
+            g.picks_per_hour_95,
+            g.versus_sog
+                .map_or(String::new(), |(m, _)| format!("{m:.6}")),
+            g.versus_sog
+                .map_or(String::new(), |(_, h)| format!("{h:.6}"))
         );
     }
     out
@@ -382,8 +436,8 @@ pub fn results_latex(log: &Log) -> String {
         columns.push('r');
         head.push_str(" & $\\mu$");
     }
-    columns.push_str("cccrrr");
-    head.push_str(" & OpT & Paper (UR5) & Trips & Pushes & Time (s) & Picks/h");
+    columns.push_str("cccrrrr");
+    head.push_str(" & OpT & Paper (UR5) & Trips & Pushes & Time (s) & Picks/h & vs.\\ sog");
     let mut out = format!(
         "% Generated by `pushmog experiment` from {}; do not edit.\n\\begin{{tabular}}{{{columns}}}\n\\toprule\n{head} \\\\\n\\midrule\n",
         tex(&log.header.config.name)
@@ -397,8 +451,16 @@ pub fn results_latex(log: &Log) -> String {
             paper_reference(g).map_or("--".to_string(), |(m, s)| format!("${m:.3} \\pm {s:.3}$"));
         let _ = writeln!(
             line,
-            " & ${:.3} \\pm {:.3}$ & {paper} & {:.1} & {:.1} & {:.0} & {:.0} \\\\",
-            g.opt.0, g.opt.1, g.trips, g.pushes, g.robot_seconds, g.picks_per_hour
+            " & ${:.3} \\pm {:.3}$ & {paper} & {:.1} & {:.1} & {:.0} & ${:.0} \\pm {:.0}$ & {} \\\\",
+            g.opt.0,
+            g.opt.1,
+            g.trips,
+            g.pushes,
+            g.robot_seconds,
+            g.picks_per_hour,
+            g.picks_per_hour_95,
+            g.versus_sog
+                .map_or("--".to_string(), |(m, h)| format!("${m:.3} \\pm {h:.3}$"))
         );
         out.push_str(&line);
     }
