@@ -290,6 +290,8 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
             skipped_pushes: trip.skipped_pushes,
             looks: Vec::new(),
             grasp: trip.grasp,
+            judged: trip.judged,
+            ahead: trip.ahead,
             carried,
             fault: None,
             lost: Vec::new(),
@@ -704,4 +706,119 @@ fn four_bars_are_pushed_into_one_row_and_taken_in_one_trip() {
             "push-mog-milp, simulated, seed {seed}"
         );
     }
+}
+
+/// The expected-time price against the same scene: with a far bin and grasps after pushes that always
+/// carry everything, pushing saves whole trips and the policy pushes; when they never carry
+/// everything, no push can pay and none is made (each skipped as not paying). Plans verify, and the
+/// objects-per-trip objective pushes as it always did.
+#[test]
+fn the_expected_time_price_pushes_only_when_it_pays() {
+    use pushmog::policy::{Pricing, SuccessBand, TripObjective};
+    use pushmog::push::SkipReason;
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let run = |carried_all: f64, bin_distance: f64, objective: TripObjective| {
+        let mut settings = PolicySettings::default();
+        settings.time_model.bin_distance = bin_distance;
+        let bands = vec![SuccessBand {
+            judged: 0.0,
+            carried_all,
+        }];
+        settings.pricing = Pricing {
+            objective,
+            success: bands.clone(),
+            ahead_success: bands,
+            corrections: 0.0,
+            push_ahead: false,
+        };
+        let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+        let plan = policy.run(&scene, &mut policy.ideal(), 3).unwrap();
+        assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared));
+        plan
+    };
+    let not_paying = |plan: &Plan| {
+        plan.trips
+            .iter()
+            .flat_map(|t| &t.skipped_pushes)
+            .filter(|s| matches!(s.reason, SkipReason::DoesNotPay { saving } if saving <= 0.0))
+            .count()
+    };
+    let never = run(0.0, 0.3, TripObjective::ExpectedTime);
+    assert_eq!(never.push_count(), 0);
+    assert!(
+        not_paying(&never) > 0,
+        "some pushes were planned and priced"
+    );
+    let far = run(1.0, 4.0, TripObjective::ExpectedTime);
+    assert!(far.push_count() > 0);
+    assert!(
+        far.trips
+            .iter()
+            .any(|t| !t.pushes.is_empty() && t.judged.is_some())
+    );
+    let paper = run(0.0, 0.3, TripObjective::ObjectsPerTrip);
+    assert!(paper.push_count() > 0);
+    assert_eq!(not_paying(&paper), 0);
+}
+
+/// Pushing ahead: a trip's pushes prepare a row for a later trip and never move what the trip's own
+/// grasp takes; such a trip makes no look of its own (the next trip's look shows the row), rows
+/// pushed ahead are carried together by a later trip, and every plan verifies. With grasps after
+/// pushes that never carry everything, nothing is pushed ahead.
+#[test]
+fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
+    use pushmog::policy::{Pricing, SuccessBand, TripObjective};
+    let run = |scene: &Scene, carried_all: f64| {
+        let bands = vec![SuccessBand {
+            judged: 0.0,
+            carried_all,
+        }];
+        let settings = PolicySettings {
+            pricing: Pricing {
+                objective: TripObjective::ExpectedTime,
+                success: bands.clone(),
+                ahead_success: bands,
+                push_ahead: true,
+                ..Pricing::default()
+            },
+            ..PolicySettings::default()
+        };
+        let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+        let plan = policy.run(scene, &mut policy.ideal(), 5).unwrap();
+        assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared));
+        plan
+    };
+    let mut ahead = 0;
+    let mut taken_later = 0;
+    for seed in [5, 6] {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let plan = run(&scene, 1.0);
+        for (k, trip) in plan.trips.iter().enumerate() {
+            if trip.pushes.is_empty() {
+                continue;
+            }
+            assert!(
+                trip.pushes
+                    .iter()
+                    .all(|p| !trip.grasp.objects.contains(&p.object))
+            );
+            assert!(trip.looks.is_empty());
+            ahead += 1;
+            let pushed: Vec<_> = trip.pushes.iter().map(|p| p.object).collect();
+            let later = &plan.trips[k + 1..];
+            if later
+                .iter()
+                .any(|t| t.carried.len() >= 2 && pushed.iter().all(|id| t.carried.contains(id)))
+            {
+                taken_later += 1;
+            }
+        }
+        assert_eq!(run(&scene, 0.0).push_count(), 0);
+    }
+    assert!(ahead >= 4, "{ahead} trips pushed ahead");
+    // Plans applied exactly: the rows come out as planned and are taken together.
+    assert_eq!(taken_later, ahead);
 }

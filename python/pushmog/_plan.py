@@ -125,6 +125,12 @@ class TripPlan:
         """Pushes not planned or not made, each a dict with the object and the reason."""
         return list(self._trip["skipped_pushes"])
 
+    @property
+    def judged(self) -> Optional[float]:
+        """With pushes, the grasp planner's estimate that the grasp after them carries every object
+        it is planned for (the ``p`` of the expected-time price); ``None`` without pushes."""
+        return self._trip.get("judged")
+
     def to_dict(self) -> dict:
         """The trip in the run-record format (a trip of ``pushmog plan`` without ``scene``,
         ``carried``, ``fault``)."""

@@ -69,6 +69,12 @@ pub struct TripRecord {
     pub looks: Vec<LookRecord>,
     /// As [`Trip::grasp`].
     pub grasp: Grasp,
+    /// As [`Trip::judged`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub judged: Option<f64>,
+    /// As [`Trip::ahead`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead: Vec<ObjectId>,
     /// As [`Trip::carried`].
     pub carried: Vec<ObjectId>,
     /// As [`Trip::fault`].
@@ -182,6 +188,8 @@ pub fn serialize<S: Serializer>(trips: &[Trip], serializer: S) -> Result<S::Ok, 
                     })
                     .collect(),
                 grasp: trip.grasp.clone(),
+                judged: trip.judged,
+                ahead: trip.ahead.clone(),
                 carried: trip.carried.clone(),
                 fault: trip.fault,
                 lost: trip.lost.clone(),
@@ -240,6 +248,8 @@ pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Tri
             skipped_pushes: record.skipped_pushes,
             looks,
             grasp: record.grasp,
+            judged: record.judged,
+            ahead: record.ahead,
             carried: record.carried,
             fault: record.fault,
             lost: record.lost,

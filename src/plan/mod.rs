@@ -41,6 +41,14 @@ pub struct Trip {
     /// The grasp, planned on the table predicted after the pushes: `scene` after all of them, or,
     /// when the trip looked again, the last look's scene after the pushes that follow it.
     pub grasp: Grasp,
+    /// As [`crate::policy::TripPlan::judged`], for the trip's first plan: the grasp planner's
+    /// estimate that the grasp after the first pushes carries all its objects (pushed trips only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub judged: Option<f64>,
+    /// As [`crate::policy::TripPlan::ahead`]: the objects this trip's pushes arranged for a later
+    /// trip's grasp (pushing ahead); the trip made no look for them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead: Vec<ObjectId>,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
     /// Set when an action was stopped because the gripper came down on an object; the rest of the

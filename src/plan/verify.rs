@@ -242,6 +242,11 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     };
     let mut found = Vec::new();
     check_clustering(&scene, trip, &mut found);
+    if let Some(id) = trip.ahead.iter().find(|id| trip.grasp.objects.contains(id)) {
+        found.push(format!(
+            "grasp: takes object {id}, which the trip pushed ahead for a later trip"
+        ));
+    }
     // The pushes up to the first look on the trip's scene, each later run of pushes on the look
     // before it, the grasp after the last run.
     let mut tables = vec![(scene, 0)];
@@ -432,7 +437,7 @@ fn check_pushes(
             ));
             continue;
         };
-        if chosen.is_some_and(|c| !c.contains(&push.object)) {
+        if chosen.is_some_and(|c| !c.contains(&push.object)) && !trip.ahead.contains(&push.object) {
             found.push(format!(
                 "push {n}: object {} is not in the chosen cluster",
                 push.object

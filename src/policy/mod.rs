@@ -171,6 +171,9 @@ pub struct PolicySettings {
     /// Seconds per trip and per push: the time each run reports, and the time the MILP clustering
     /// minimises.
     pub time_model: TimeModel,
+    /// Whether pushes are made whenever a multi-object grasp follows them (objects per trip, the
+    /// default) or only when they are expected to save robot time ([`Pricing`]).
+    pub pricing: Pricing,
 }
 
 impl Default for PolicySettings {
@@ -188,6 +191,7 @@ impl Default for PolicySettings {
             min_push: 0.003,
             rollout: false,
             time_model: TimeModel::default(),
+            pricing: Pricing::default(),
         }
     }
 }
@@ -264,6 +268,7 @@ impl PolicySettings {
         self.single.validate()?;
         self.multi.validate()?;
         self.time_model.validate()?;
+        self.pricing.validate()?;
         crate::error::count_in_range(
             "run",
             "max_failed_attempts",
@@ -471,9 +476,13 @@ fn multi_object(settings: &PolicySettings) -> Result<MultiObject> {
     ))
 }
 
+mod ahead;
+mod price;
 mod run;
 mod trip;
 
+pub use ahead::AHEAD_TRIES;
+pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
 pub use run::{Run, RunTiming, run_seconds};
 pub use trip::{GIVE_UP_AFTER, Landing, TripContext, TripPlan};
 

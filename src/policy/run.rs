@@ -16,7 +16,6 @@ use crate::error::Result;
 use crate::exec::Executor;
 use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
-use crate::time_model::{GraspPath, PushPath};
 
 /// Wall-clock planning times of one run, seconds.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -129,6 +128,8 @@ impl<'a> Run<'a> {
             skipped_pushes: trip.skipped_pushes.clone(),
             looks: Vec::new(),
             grasp: trip.grasp.clone(),
+            judged: trip.judged,
+            ahead: trip.ahead.clone(),
             carried: Vec::new(),
             fault: None,
             lost: Vec::new(),
@@ -152,9 +153,12 @@ impl<'a> Run<'a> {
                     break;
                 }
             }
+            // Pushes ahead for a later trip's grasp are seen at the next trip's look.
+            let ahead = !record.ahead.is_empty();
             if record.fault.is_some()
                 || record.pushes.len() == from
                 || !run_settings.observe_after_pushes
+                || ahead
             {
                 break;
             }
@@ -325,20 +329,8 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
     let trips_seconds: f64 = trips
         .iter()
         .map(|trip| {
-            let pushes: Vec<PushPath> = trip
-                .pushes
-                .iter()
-                .map(|p| PushPath {
-                    approach: p.fork.approach,
-                    end: p.fork.end,
-                })
-                .collect();
-            let grasp = GraspPath {
-                center: trip.grasp.jaws.center,
-                opening: trip.grasp.jaws.opening,
-                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
-            };
-            model.trip_seconds(gripper, &pushes, &grasp)
+            let pushes = super::push_paths(&trip.pushes);
+            model.trip_seconds(gripper, &pushes, &super::grasp_path(&trip.grasp, gripper))
         })
         .sum();
     let looks: usize = trips.iter().map(|trip| trip.looks.len()).sum();

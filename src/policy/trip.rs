@@ -43,10 +43,21 @@ pub struct TripPlan {
     pub skipped_pushes: Vec<SkippedPush>,
     /// The grasp, planned on the scene predicted after the pushes.
     pub grasp: Grasp,
+    /// With pushes, the grasp planner's estimate of the probability that the grasp they prepare
+    /// carries every object it is planned for, on the table predicted after them (the `p` of the
+    /// expected-time price): this trip's grasp, or, for pushes ahead (`pricing.push_ahead`), the
+    /// grasp of the pushed row a later trip is to make. `None` without pushes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub judged: Option<f64>,
+    /// When pushing ahead (`pricing.push_ahead`): the objects this trip's pushes arrange into a row
+    /// for a later trip's grasp, none of them taken by this trip's grasp. Empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead: Vec<ObjectId>,
 }
 
-/// Pushes to make, in order, and the grasp planned on the table predicted after them.
-type PushesThenGrasp = (Vec<Push>, Grasp);
+/// Pushes to make, in order, the grasp planned on the table predicted after them, and the grasp
+/// planner's estimate of its probability.
+type PushesThenGrasp = (Vec<Push>, Grasp, f64);
 
 /// Lengths tried, shortest first, for a push that separates an object from the neighbour it is stuck
 /// against, metres: a 10 mm plate and the single-object planner's clearance on either side need
@@ -69,13 +80,16 @@ const SEPARATION_EDGE_MARGIN: f64 = 0.005;
 /// there).
 #[derive(Clone, Debug)]
 pub struct TripContext {
-    rng: SeededRng,
+    pub(super) rng: SeededRng,
     /// Jaw poses of grasps that carried nothing.
     pub failed: Vec<JawPose>,
     /// The objects (sorted) of each multi-object grasp that carried nothing.
     pub failed_together: Vec<Vec<ObjectId>>,
     /// Pushes during whose descent a finger came down on an object.
     pub landed: Vec<Landing>,
+    /// The objects a trip pushed ahead into a row for a later trip's grasp
+    /// (`pricing.push_ahead`); empty when none waits.
+    pub ahead: Vec<ObjectId>,
 }
 
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
@@ -104,6 +118,7 @@ impl TripContext {
             failed: Vec::new(),
             failed_together: Vec::new(),
             landed: Vec::new(),
+            ahead: Vec::new(),
         }
     }
 
@@ -118,7 +133,7 @@ impl TripContext {
     }
 
     /// Whether `grasp` takes two or more objects that are still to be grasped together.
-    fn together(&self, grasp: &Grasp) -> bool {
+    pub(super) fn together(&self, grasp: &Grasp) -> bool {
         grasp.objects.len() >= 2 && !self.given_up(&grasp.objects)
     }
 
@@ -220,6 +235,8 @@ impl Policy {
                         pushes: Vec::new(),
                         skipped_pushes: Vec::new(),
                         grasp,
+                        judged: None,
+                        ahead: Vec::new(),
                     }));
                 }
                 None if reason.is_empty() => {
@@ -262,24 +279,35 @@ impl Policy {
                 "no cluster with an object narrower than the jaw gap".to_string()
             ));
         }
+        if self.settings.pricing.push_ahead
+            && let Some(pusher) = self.pusher.as_deref()
+            && let Some(trip) =
+                self.draft_ahead(pusher, observed, &clustering, &candidates, context)?
+        {
+            return Ok(Ok(trip));
+        }
         let chosen = candidates[context.rng.index(candidates.len())];
         let avoid = &context.failed;
         let members = clustering.clusters[chosen].clone();
-        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp| TripPlan {
+        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp, judged| TripPlan {
             clustering: clustering.clone(),
             cluster: Some(chosen),
             pushes,
             skipped_pushes: skipped,
             grasp,
+            judged,
+            ahead: Vec::new(),
         };
         let mut skipped = Vec::new();
         if let Some(pusher) = self.pusher.as_deref()
             && members.len() > 1
         {
-            let (pushed, why_not) = self.push_draft(pusher, observed, &members, context)?;
+            let look = self.settings.run.observe_after_pushes;
+            let (pushed, why_not) =
+                self.push_draft(pusher, observed, &members, context, (1, look, None))?;
             skipped = why_not;
-            if let Some((pushes, grasp)) = pushed {
-                return Ok(Ok(draft(pushes, skipped, grasp)));
+            if let Some((pushes, grasp, judged)) = pushed {
+                return Ok(Ok(draft(pushes, skipped, grasp, Some(judged))));
             }
         }
         // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
@@ -288,17 +316,17 @@ impl Policy {
             .multi
             .plan_several(observed, &members, &[], &[], avoid)?;
         if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
-            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
+            return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
         }
         let single = self.single.plan_avoiding(observed, &members, avoid)?;
         if let Some(grasp) = single.value {
-            return Ok(Ok(draft(Vec::new(), skipped, grasp)));
+            return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
         }
         // Members too close to be taken alone or together: push one clear of its neighbour.
         if self.pusher.is_some()
             && let Some((push, grasp)) = self.separate(observed, &members, avoid)?
         {
-            return Ok(Ok(draft(vec![push], skipped, grasp)));
+            return Ok(Ok(draft(vec![push], skipped, grasp, None)));
         }
         Ok(Err(format!(
             "cluster {:?}: {}",
@@ -374,14 +402,18 @@ impl Policy {
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,
     /// when that grasp takes two or more objects and every pushed object it leaves could still be
     /// taken by itself there (no object is stranded), and no push lowers its fingers near an unseen
-    /// object a push of the same object `landed` on; with the pushes that were planned and not
+    /// object a push of the same object `landed` on; under the expected-time objective, also only
+    /// when the pushes are expected to save time over taking `taken` objects as they lie, with a
+    /// look after them or not (`look`), the trip then making `then` (pushing ahead) or the grasp
+    /// after the pushes ([`super::Pricing::saving`]). With the pushes that were planned and not
     /// made, and why.
-    fn push_draft(
+    pub(super) fn push_draft(
         &self,
         pusher: &dyn PolicyPusher,
         observed: &Scene,
         members: &[ObjectId],
         context: &TripContext,
+        (taken, look, then): (usize, bool, Option<&Grasp>),
     ) -> Result<(Option<PushesThenGrasp>, Vec<SkippedPush>)> {
         let (avoid, landed) = (&context.failed, &context.landed);
         let plan = self.plan_pushes(pusher, observed, members)?;
@@ -413,10 +445,23 @@ impl Policy {
                     .copied()
                     .filter(|id| !grasp.objects.contains(id))
                     .collect();
-                if self.each_has_a_fallback(&predicted, &left)? {
-                    return Ok((Some((plan.pushes, grasp)), skipped));
+                let then = then.unwrap_or(&grasp);
+                let saving = self.saving(
+                    observed,
+                    (&plan.pushes, &grasp, then),
+                    &outcome.stats,
+                    (taken, look),
+                );
+                if !self.each_has_a_fallback(&predicted, &left)? {
+                    SkipReason::DeadEnd
+                } else if saving.is_some_and(|saving| saving <= 0.0) {
+                    SkipReason::DoesNotPay {
+                        saving: saving.unwrap_or(0.0),
+                    }
+                } else {
+                    let judged = outcome.stats.counter("probability").unwrap_or(0.0);
+                    return Ok((Some((plan.pushes, grasp, judged)), skipped));
                 }
-                SkipReason::DeadEnd
             }
             None => SkipReason::NoGraspAfter,
         };
@@ -463,13 +508,16 @@ impl Policy {
             .copied()
             .filter(|&id| observed.index_of(id).is_some())
             .collect();
-        let next = |pushes: Vec<Push>, skipped_pushes: Vec<SkippedPush>, grasp: Grasp| TripPlan {
-            clustering: trip.clustering.clone(),
-            cluster: trip.cluster,
-            pushes,
-            skipped_pushes,
-            grasp,
-        };
+        let next =
+            |pushes: Vec<Push>, skipped_pushes: Vec<SkippedPush>, grasp: Grasp, judged| TripPlan {
+                clustering: trip.clustering.clone(),
+                cluster: trip.cluster,
+                pushes,
+                skipped_pushes,
+                grasp,
+                judged,
+                ahead: Vec::new(),
+            };
         let mut skipped = Vec::new();
         if members.len() >= 2 {
             let outcome =
@@ -478,30 +526,62 @@ impl Policy {
             let as_it_lies = outcome.value.filter(|g| context.together(g));
             let taken = as_it_lies.as_ref().map_or(0, |g| g.objects.len());
             if taken == members.len() {
-                return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp)));
+                return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp, None)));
             }
             // Fewer objects than the cluster has can be taken as it lies (a row of three or more
             // broken by the pushes): corrective pushes come first when their grasp takes more.
             if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
-                let (pushed, why_not) = self.push_draft(pusher, observed, &members, context)?;
+                let (pushed, why_not) = self.push_draft(
+                    pusher,
+                    observed,
+                    &members,
+                    context,
+                    (taken.max(1), true, None),
+                )?;
                 skipped = why_not;
-                if let Some((pushes, grasp)) = pushed.filter(|(_, g)| g.objects.len() > taken) {
-                    return Ok(Some(next(pushes, skipped, grasp)));
+                if let Some((pushes, grasp, judged)) =
+                    pushed.filter(|(_, g, _)| g.objects.len() > taken)
+                {
+                    return Ok(Some(next(pushes, skipped, grasp, Some(judged))));
                 }
             }
             if let Some(grasp) = as_it_lies {
-                return Ok(Some(next(Vec::new(), skipped, grasp)));
+                return Ok(Some(next(Vec::new(), skipped, grasp, None)));
             }
         }
         if let Some(grasp) = self.single.plan_avoiding(observed, &members, avoid)?.value {
-            return Ok(Some(next(Vec::new(), skipped, grasp)));
+            return Ok(Some(next(Vec::new(), skipped, grasp, None)));
         }
         let everything: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
         Ok(self
             .single
             .plan_avoiding(observed, &everything, avoid)?
             .value
-            .map(|grasp| next(Vec::new(), skipped, grasp)))
+            .map(|grasp| next(Vec::new(), skipped, grasp, None)))
+    }
+
+    /// Under the expected-time objective, the expected seconds saved by `pushes` and then `grasp`
+    /// (judged as `judged` says, the grasp planner's counter `probability`) over taking `taken`
+    /// objects as they lie, with a look after the pushes or not; `None` under the objects-per-trip
+    /// objective.
+    fn saving(
+        &self,
+        observed: &Scene,
+        planned: (&[Push], &Grasp, &Grasp),
+        judged: &Stats,
+        (taken, look): (usize, bool),
+    ) -> Option<f64> {
+        let settings = &self.settings;
+        (settings.pricing.objective == super::TripObjective::ExpectedTime).then(|| {
+            settings.pricing.saving(
+                &settings.time_model,
+                observed.gripper(),
+                planned,
+                judged.counter("probability").unwrap_or(0.0),
+                taken,
+                look,
+            )
+        })
     }
 
     /// Whether every pushed object could still be grasped by itself on the predicted table.

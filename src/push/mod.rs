@@ -103,6 +103,12 @@ pub enum SkipReason {
     /// A push to separate the object from a neighbour it is stuck against would meet another object,
     /// or leave it too near the workspace's edge.
     NoRoomToSeparate,
+    /// Planned, but by the expected-time price (`formulations/picks-per-hour.md`) the pushes and the
+    /// look after them cost more seconds than the trips they are expected to save.
+    DoesNotPay {
+        /// Expected seconds saved (positive) or lost (negative) by pushing.
+        saving: f64,
+    },
 }
 
 impl std::fmt::Display for SkipReason {
@@ -118,6 +124,13 @@ impl std::fmt::Display for SkipReason {
             Self::NoRow => write!(f, "no row of the cluster fits the jaws"),
             Self::WouldTip => write!(f, "it would tip over rather than slide"),
             Self::NoGraspAfter => write!(f, "no multi-object grasp after the pushes"),
+            Self::DoesNotPay { saving } => {
+                write!(
+                    f,
+                    "pushing would lose {:.1} s by the expected-time price",
+                    -saving
+                )
+            }
             Self::LandedBefore { object } => write!(
                 f,
                 "a finger came down on object {object} when pushed before"

@@ -1,0 +1,233 @@
+//! The expected-time price of pushing: whether a trip's pushes are expected to save more robot
+//! seconds than they cost (`formulations/picks-per-hour.md`).
+//!
+//! A cluster whose pushes are planned, with a multi-object grasp of `k` objects on the table
+//! predicted after them, can instead be taken as it lies: `t` objects now (one, or the grasp as it
+//! lies), the rest one trip each later. Pushing saves
+//!
+//! `S = q(p)·(k − t)·(T_trip + T_obs) − (ΔT_push + T_look) − c·(T_push,later + T_look)`
+//!
+//! seconds, with:
+//! - `q(p)` the probability that the grasp after the pushes carries all `k`, read from a calibration
+//!   table of the grasp judge's own probability `p` ([`SuccessBand`]), fitted to simulated outcomes;
+//! - `T_trip + T_obs` a single-object trip and the look before it (the time model's nominal trip);
+//! - `ΔT_push` the seconds the planned pushes add to the trip (the time model's commands for this
+//!   trip with and without them) and `T_look` the look after them (`run.observe_after_pushes`);
+//! - `c` the expected rounds of corrective pushes after them, each a later push of the mean planned
+//!   length and a look.
+//!
+//! Under [`TripObjective::ExpectedTime`] the pushes are made only when `S > 0`; under
+//! [`TripObjective::ObjectsPerTrip`] (the Push-MOG paper's aim) whenever a multi-object grasp
+//! follows them.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::grasp::Grasp;
+use crate::push::Push;
+use crate::scene::Gripper;
+use crate::time_model::{GraspPath, PushPath, TimeModel};
+
+/// What a policy's decisions to push aim at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum TripObjective {
+    /// Push whenever a multi-object grasp follows (the Push-MOG paper's aim: objects per trip).
+    ObjectsPerTrip,
+    /// Push only when the expected robot seconds saved exceed those spent (picks per hour).
+    ExpectedTime,
+}
+
+/// One row of the calibration table: grasps judged at least `judged` carry all their objects after
+/// the pushes with probability `carried_all`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SuccessBand {
+    /// Least probability the grasp judge gave the grasp on the predicted table.
+    pub judged: f64,
+    /// Observed probability that such a grasp carried every object it was planned for.
+    pub carried_all: f64,
+}
+
+/// How the policy prices pushes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct Pricing {
+    /// What decisions to push aim at. Default `objects_per_trip`.
+    pub objective: TripObjective,
+    /// Calibration of the grasp judge after pushes, by increasing `judged`. Default: fitted on
+    /// 664 pushed clusters of push-mog-opt in the simulator with noise (training scenes 5001-5100,
+    /// the judge at 16 samples with push noise 4 mm and 0.05 rad): judged below 1, 0.738; judged 1,
+    /// 0.836 (`formulations/picks-per-hour.md`).
+    pub success: Vec<SuccessBand>,
+    /// Expected rounds of corrective pushes after a trip's pushes. Default 0.13, from the same runs.
+    pub corrections: f64,
+    /// Calibration for rows pushed ahead (`push_ahead`): the probability that the next trip carries
+    /// the row together, by judged probability. Default: fitted as `success`, pushing ahead, on 1083
+    /// rows of the same training scenes: judged below 1, 0.675; judged 1, 0.718
+    /// (`formulations/picks-per-hour.md`).
+    pub ahead_success: Vec<SuccessBand>,
+    /// Push clusters ahead: each trip grasps one cluster as it lies and, before that grasp, pushes
+    /// another into a row for a later trip, whose look shows the row (`policy/ahead.rs`). Default
+    /// false.
+    pub push_ahead: bool,
+}
+
+impl Default for Pricing {
+    fn default() -> Self {
+        Self {
+            objective: TripObjective::ObjectsPerTrip,
+            success: vec![
+                SuccessBand {
+                    judged: 0.0,
+                    carried_all: 0.738,
+                },
+                SuccessBand {
+                    judged: 0.999,
+                    carried_all: 0.836,
+                },
+            ],
+            corrections: 0.13,
+            ahead_success: vec![
+                SuccessBand {
+                    judged: 0.0,
+                    carried_all: 0.675,
+                },
+                SuccessBand {
+                    judged: 0.999,
+                    carried_all: 0.718,
+                },
+            ],
+            push_ahead: false,
+        }
+    }
+}
+
+impl Pricing {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        validate_bands("success", &self.success)?;
+        validate_bands("ahead_success", &self.ahead_success)?;
+        crate::error::in_range(
+            "pricing",
+            "corrections",
+            self.corrections,
+            (0.0, 10.0),
+            "expected rounds of corrective pushes per trip",
+        )
+    }
+
+    /// The calibrated probability that a grasp the judge gave `judged` carries all its objects: in
+    /// the trip of the pushes, or (`ahead`) in the trip after pushes ahead.
+    pub fn carried_all(&self, judged: f64, ahead: bool) -> f64 {
+        let bands = if ahead {
+            &self.ahead_success
+        } else {
+            &self.success
+        };
+        bands
+            .iter()
+            .rev()
+            .find(|band| judged >= band.judged)
+            .or(bands.first())
+            .map_or(0.0, |band| band.carried_all)
+    }
+
+    /// Expected robot seconds saved by making `pushes` for `grasp` (judged `judged` by the grasp
+    /// planner) instead of taking `taken` objects as they lie (module docs); `then` is the grasp the
+    /// trip makes after the pushes (`grasp` itself, or another cluster's when pushing ahead), and
+    /// `look` whether the loop looks at the table after pushing (never after pushes ahead).
+    pub fn saving(
+        &self,
+        model: &TimeModel,
+        gripper: &Gripper,
+        (pushes, grasp, then): (&[Push], &Grasp, &Grasp),
+        judged: f64,
+        taken: usize,
+        look: bool,
+    ) -> f64 {
+        let ahead = !std::ptr::eq(grasp, then);
+        let paths = push_paths(pushes);
+        let jaws = grasp_path(then, gripper);
+        let look = if look { model.observation } else { 0.0 };
+        let pushing =
+            model.trip_seconds(gripper, &paths, &jaws) - model.trip_seconds(gripper, &[], &jaws);
+        let mean = pushes.iter().map(|p| p.distance).sum::<f64>() / pushes.len().max(1) as f64;
+        let correcting = model.nominal_later_push_seconds(mean) + look;
+        let single = model.nominal_trip_seconds(gripper) + model.observation;
+        let gained = grasp.objects.len().saturating_sub(taken) as f64;
+        self.carried_all(judged, ahead) * gained * single
+            - (pushing + look)
+            - self.corrections * correcting
+    }
+}
+
+/// Checks a calibration table: at least one band, probabilities, increasing `judged`.
+fn validate_bands(name: &str, bands: &[SuccessBand]) -> Result<()> {
+    if bands.is_empty() {
+        return Err(Error::field("pricing", name, "needs at least one band"));
+    }
+    for (k, band) in bands.iter().enumerate() {
+        let field = format!("{name}[{k}]");
+        for (part, value) in [("judged", band.judged), ("carried_all", band.carried_all)] {
+            crate::error::in_range(
+                "pricing",
+                &format!("{field}.{part}"),
+                value,
+                (0.0, 1.0),
+                "a probability",
+            )?;
+        }
+        if k > 0 && band.judged <= bands[k - 1].judged {
+            return Err(Error::field(
+                "pricing",
+                field,
+                "bands must be in increasing order of `judged`",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The time model's view of fork pushes.
+pub fn push_paths(pushes: &[Push]) -> Vec<PushPath> {
+    pushes
+        .iter()
+        .map(|p| PushPath {
+            approach: p.fork.approach,
+            end: p.fork.end,
+            opening: p.fork.opening,
+        })
+        .collect()
+}
+
+/// The time model's view of a grasp: its jaws, closed on the row it was planned for.
+pub fn grasp_path(grasp: &Grasp, gripper: &Gripper) -> GraspPath {
+    GraspPath {
+        center: grasp.jaws.center,
+        opening: grasp.jaws.opening,
+        closed: (grasp.width + gripper.plate_thickness).min(grasp.jaws.opening),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_calibration_reads_the_highest_band_reached() {
+        let pricing = Pricing::default();
+        assert_eq!(pricing.carried_all(0.5, false), 0.738);
+        assert_eq!(pricing.carried_all(0.875, false), 0.738);
+        assert_eq!(pricing.carried_all(1.0, false), 0.836);
+        assert!(pricing.validate().is_ok());
+        let unordered = Pricing {
+            success: pricing.success.iter().rev().cloned().collect(),
+            ..pricing
+        };
+        assert!(unordered.validate().is_err());
+    }
+}
