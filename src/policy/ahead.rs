@@ -11,10 +11,10 @@
 //!    it lies (two or more together, else one by itself), and the row that did not come out is the
 //!    first tried for pushes ahead again;
 //! 2. the pushes ahead: other clusters of two or more, nearest the grasp first (at most
-//!    [`AHEAD_TRIES`] tried), the first whose pushes are planned with a multi-object grasp after them, pay by the
-//!    price without a look and with the travel from them to the trip's grasp (under the
-//!    expected-time objective), move nothing the trip's grasp takes,
-//!    and leave that grasp standing on the table predicted after them (it is planned again there).
+//!    [`AHEAD_TRIES`] tried), the first whose pushes are planned with a multi-object grasp after
+//!    them, pay by the price without a look and with the travel from them to the trip's grasp
+//!    (under the expected-time objective), move nothing the trip's grasp takes, and leave that grasp
+//!    standing on the table predicted after them (it is planned again there).
 //!
 //! When the cluster chosen in step 1 cannot be grasped as it lies, the trip is planned as without
 //! pushing ahead.
