@@ -41,11 +41,11 @@ pub struct Trip {
     /// The grasp, planned on the table predicted after the pushes: `scene` after all of them, or,
     /// when the trip looked again, the last look's scene after the pushes that follow it.
     pub grasp: Grasp,
-    /// As [`crate::policy::TripPlan::judged`], for the trip's first plan: the grasp planner's
-    /// estimate that the grasp after the first pushes carries all its objects (pushed trips only).
+    /// For the trip's first plan (the policy's `TripPlan::judged`): the grasp planner's estimate
+    /// that the grasp its first pushes prepare carries all its objects (pushed trips only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub judged: Option<f64>,
-    /// As [`crate::policy::TripPlan::ahead`]: the objects this trip's pushes arranged for a later
+    /// As the policy's `TripPlan::ahead`: the objects this trip's pushes arranged for a later
     /// trip's grasp (pushing ahead); the trip made no look for them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead: Vec<ObjectId>,
