@@ -14,8 +14,10 @@ import pushmog
 
 
 def trip_fields(trip: dict) -> dict:
-    """A run record's trip without what the executor reports."""
-    return {k: trip[k] for k in ("clustering", "cluster", "pushes", "skipped_pushes", "grasp")}
+    """A run record's trip without what the executor reports (``judged`` and ``ahead`` only when
+    the plan has them, as in plan files)."""
+    keys = ("clustering", "cluster", "pushes", "skipped_pushes", "grasp", "judged", "ahead")
+    return {k: trip[k] for k in keys if k in trip}
 
 
 @pytest.mark.parametrize("policy", pushmog.POLICIES)
