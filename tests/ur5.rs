@@ -12,10 +12,10 @@ use pushmog::exec::ur5::{
     Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
 };
 use pushmog::plan::Plan;
-use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings, grasp_path, push_paths};
 use pushmog::random::SeededRng;
 use pushmog::scene::SceneSpec;
-use pushmog::time_model::{Command, GraspPath, PushPath, TimeModel};
+use pushmog::time_model::{Command, TimeModel};
 
 use crate::support::{fixture, pushmog, scratch};
 
@@ -158,21 +158,11 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
             let scene = pushmog::scene::Scene::new(trip.scene.clone()).unwrap();
             let gripper = scene.gripper();
             let steps = translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1);
-            let pushes: Vec<PushPath> = trip
-                .pushes
-                .iter()
-                .map(|p| PushPath {
-                    approach: p.fork.approach,
-                    end: p.fork.end,
-                    opening: p.fork.opening,
-                })
-                .collect();
-            let grasp = GraspPath {
-                center: trip.grasp.jaws.center,
-                opening: trip.grasp.jaws.opening,
-                closed: (trip.grasp.width + gripper.plate_thickness).min(trip.grasp.jaws.opening),
-            };
-            let charged = model.trip_commands(gripper, &pushes, &grasp);
+            let charged = model.trip_commands(
+                gripper,
+                &push_paths(&trip.pushes),
+                &grasp_path(&trip.grasp, gripper),
+            );
             assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
             jaws_left_out += 5 * trip.pushes.len() + 7 - charged.len();
         }

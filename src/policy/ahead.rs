@@ -68,8 +68,12 @@ impl Policy {
                 .sum();
             nalgebra::Point2::from(sum / members.len() as f64)
         };
-        let away = |k: usize| nalgebra::distance(&centre(k), &grasp.jaws.center);
-        others.sort_by(|&a, &b| away(a).total_cmp(&away(b)));
+        let mut by_distance: Vec<(f64, usize)> = others
+            .iter()
+            .map(|&k| (nalgebra::distance(&centre(k), &grasp.jaws.center), k))
+            .collect();
+        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+        others = by_distance.into_iter().map(|(_, k)| k).collect();
         // A row pushed ahead that did not come out graspable is pushed again first.
         let again = (unformed.len() >= 2 && unformed.iter().all(|id| !grasp.objects.contains(id)))
             .then_some(unformed);

@@ -137,21 +137,21 @@ impl Pricing {
     }
 
     /// Expected robot seconds saved by making `pushes` for `grasp` (judged `judged` by the grasp
-    /// planner) instead of taking `taken` objects as they lie (module docs); `then` is the grasp the
-    /// trip makes after the pushes (`grasp` itself, or another cluster's when pushing ahead), and
-    /// `look` whether the loop looks at the table after pushing (never after pushes ahead).
+    /// planner) instead of taking `taken` objects as they lie (module docs); `ahead` is the grasp
+    /// the trip makes after pushes ahead (another cluster's; `None`: the trip makes `grasp`
+    /// itself), and `look` whether the loop looks at the table after pushing (never after pushes
+    /// ahead).
     pub fn saving(
         &self,
         model: &TimeModel,
         gripper: &Gripper,
-        (pushes, grasp, then): (&[Push], &Grasp, &Grasp),
+        (pushes, grasp, ahead): (&[Push], &Grasp, Option<&Grasp>),
         judged: f64,
         taken: usize,
         look: bool,
     ) -> f64 {
-        let ahead = !std::ptr::eq(grasp, then);
         let paths = push_paths(pushes);
-        let jaws = grasp_path(then, gripper);
+        let jaws = grasp_path(ahead.unwrap_or(grasp), gripper);
         let look = if look { model.observation } else { 0.0 };
         let pushing =
             model.trip_seconds(gripper, &paths, &jaws) - model.trip_seconds(gripper, &[], &jaws);
@@ -159,7 +159,7 @@ impl Pricing {
         let correcting = model.nominal_later_push_seconds(mean) + look;
         let single = model.nominal_trip_seconds(gripper) + model.observation;
         let gained = grasp.objects.len().saturating_sub(taken) as f64;
-        self.carried_all(judged, ahead) * gained * single
+        self.carried_all(judged, ahead.is_some()) * gained * single
             - (pushing + look)
             - self.corrections * correcting
     }

@@ -445,7 +445,6 @@ impl Policy {
                     .copied()
                     .filter(|id| !grasp.objects.contains(id))
                     .collect();
-                let then = then.unwrap_or(&grasp);
                 let saving = self.saving(
                     observed,
                     (&plan.pushes, &grasp, then),
@@ -567,7 +566,7 @@ impl Policy {
     fn saving(
         &self,
         observed: &Scene,
-        planned: (&[Push], &Grasp, &Grasp),
+        planned: (&[Push], &Grasp, Option<&Grasp>),
         judged: &Stats,
         (taken, look): (usize, bool),
     ) -> Option<f64> {
