@@ -218,6 +218,13 @@ fn on_100_scenes_milp_never_loses_and_always_verifies() {
                 .map(|c| centroid_diameter(&scene, c))
                 .fold(0.0, f64::max),
         );
+        // The comparison's hierarchical row is that clustering, scored by the same cost.
+        assert_eq!(row.hierarchical_trips, taken.len(), "seed {}", row.seed);
+        assert!(
+            (row.hierarchical_seconds - cost.clustering_cost(&taken)).abs() < 1e-9,
+            "seed {}",
+            row.seed
+        );
         assert!(row.fewest_trips <= taken.len(), "seed {}", row.seed);
         assert!(
             row.milp_seconds <= cost.clustering_cost(&taken) + 1e-9,

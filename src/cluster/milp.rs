@@ -35,7 +35,7 @@ use super::reuse::{self, LastOptimum};
 use super::separability::separability_conflicts;
 use super::solved::Solved;
 use super::{Clusterer, Clustering};
-use super::{admits_row, split_unrowable};
+use super::{ROW_GAP, admits_row, split_unrowable};
 use crate::error::{Error, Result};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::scene::Scene;
@@ -50,9 +50,6 @@ pub enum MilpBackend {
     /// HiGHS (needs the `highs` feature: cmake and libclang at build time).
     Highs,
 }
-
-/// Gap between neighbours in a candidate's row, metres (the SOCP push planner's default `gap`).
-const ROW_GAP: f64 = 0.001;
 
 /// Settings of [`Milp`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

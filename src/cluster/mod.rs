@@ -73,6 +73,10 @@ pub fn fits_jaws(scene: &Scene, members: &[usize]) -> bool {
     members.len() <= 1 || summed_diameter(scene, members) <= scene.gripper().usable_gap()
 }
 
+/// Gap between neighbours in a candidate's row, metres (the SOCP push planner's default `gap`): the
+/// row test of the MILP's candidates and of the heuristic's clusters as taken.
+pub const ROW_GAP: f64 = 0.001;
+
 /// Whether a group of objects (scene indices) can stand in one row of at most `limit` metres along
 /// some closing axis, neighbours `gap` apart, at their current yaws. The summed width along an axis
 /// is concave between the members' edge normals, so its minimum is at one of them: those are the

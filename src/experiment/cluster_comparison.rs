@@ -1,14 +1,19 @@
 //! Hierarchical against optimal clustering over seeded scenes: the table `pushmog
 //! compare-clustering` prints.
 //!
-//! Every clustering is scored with the same [`CostModel`] (predicted seconds of trips and pushes), so
-//! the columns compare like with like; "trips" is the number of clusters, one grasp each. Both MILP
-//! objectives are run: `time` (the default) and `fewest_clusters` (the paper's aim).
+//! Every clustering is scored on equal terms: by the same [`CostModel`] (predicted seconds of trips
+//! and pushes), after the same row test. A hierarchical cluster whose members can stand in no row
+//! the jaws take is split into single objects ([`split_unrowable`]), as every pushing policy takes it;
+//! the MILP's candidates pass that test already. "trips" is the number of clusters, one grasp each.
+//! The hierarchical clustering as it comes out, before that split, is reported beside it, marked as
+//! not takeable. Both MILP objectives are run: `time` (the default) and `fewest_clusters` (the
+//! paper's aim).
 
 use std::fmt::Write as _;
 
 use crate::cluster::{
-    ClusterObjective, Clusterer, CostModel, Hierarchical, Milp, MilpSettings, centroid_diameter,
+    ClusterObjective, Clusterer, Clustering, CostModel, Hierarchical, Milp, MilpSettings, ROW_GAP,
+    admits_row, split_unrowable,
 };
 use crate::error::Result;
 use crate::outcome::Status;
@@ -21,10 +26,17 @@ use crate::stats::mean_std;
 pub struct SceneComparison {
     /// The scene's seed.
     pub seed: u64,
-    /// Clusters of the hierarchical clustering.
+    /// Clusters of the hierarchical clustering as taken: each cluster that admits no row split
+    /// into single objects.
     pub hierarchical_trips: usize,
     /// Its predicted seconds.
     pub hierarchical_seconds: f64,
+    /// Clusters of the hierarchical clustering as it comes out, before the row test.
+    pub hierarchical_raw_trips: usize,
+    /// Their predicted seconds, counting each cluster whole (no pushing policy can take them so).
+    pub hierarchical_raw_seconds: f64,
+    /// How many of its clusters admit no row.
+    pub hierarchical_unrowable: usize,
     /// Its solve time, seconds.
     pub hierarchical_solve: f64,
     /// Clusters of the MILP minimising time.
@@ -70,44 +82,64 @@ pub fn compare_clustering(
     let mut rows = Vec::with_capacity(scenes);
     for seed in first_seed..first_seed + scenes as u64 {
         let scene = generate_scene(generator, set, seed)?;
-        let score = |clusters: &[Vec<crate::scene::ObjectId>]| -> Result<f64> {
-            let indices = clusters
+        let row_limit = scene.gripper().usable_gap() - milp.row_margin;
+        let indices = |clustering: &Clustering| -> Result<Vec<Vec<usize>>> {
+            clustering
+                .clusters
                 .iter()
                 .map(|c| scene.indices_of(c))
-                .collect::<Result<Vec<_>>>()?;
-            let widest = indices
-                .iter()
-                .map(|c| centroid_diameter(&scene, c))
-                .fold(0.0, f64::max);
-            let model = CostModel::new(
-                &scene,
-                ClusterObjective::Time,
-                &milp.time_model,
-                milp.min_push,
-                widest,
-            );
-            Ok(model.clustering_cost(&indices))
+                .collect()
         };
+        // The time objective does not depend on the diameter argument (it sets ε of the other).
+        let cost = CostModel::new(
+            &scene,
+            ClusterObjective::Time,
+            &milp.time_model,
+            milp.min_push,
+            0.0,
+        );
         let h = hierarchical.cluster(&scene)?;
+        let raw = indices(&h.value)?;
+        let unrowable = raw
+            .iter()
+            .filter(|c| !admits_row(&scene, c, row_limit, ROW_GAP))
+            .count();
+        let raw_seconds = cost.clustering_cost(&raw);
+        let raw_trips = raw.len();
+        let taken = split_unrowable(&scene, raw, row_limit, ROW_GAP);
+        let taken_clustering = Clustering {
+            clusters: taken
+                .iter()
+                .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
+                .collect(),
+        };
         let t = by_time.cluster(&scene)?;
         let f = by_count.cluster(&scene)?;
         let mut violations = Vec::new();
-        for (name, outcome) in [("hierarchical", &h), ("milp", &t), ("fewest", &f)] {
-            for v in verify_clustering(&scene, &outcome.value) {
+        for (name, clustering) in [
+            ("hierarchical", &h.value),
+            ("hierarchical as taken", &taken_clustering),
+            ("milp", &t.value),
+            ("fewest", &f.value),
+        ] {
+            for v in verify_clustering(&scene, clustering) {
                 violations.push(format!("{name}: {v}"));
             }
         }
         rows.push(SceneComparison {
             seed,
-            hierarchical_trips: h.value.len(),
-            hierarchical_seconds: score(&h.value.clusters)?,
+            hierarchical_trips: taken.len(),
+            hierarchical_seconds: cost.clustering_cost(&taken),
+            hierarchical_raw_trips: raw_trips,
+            hierarchical_raw_seconds: raw_seconds,
+            hierarchical_unrowable: unrowable,
             hierarchical_solve: h.stats.seconds,
             milp_trips: t.value.len(),
-            milp_seconds: score(&t.value.clusters)?,
+            milp_seconds: cost.clustering_cost(&indices(&t.value)?),
             milp_solve: t.stats.seconds,
             milp_status: t.status,
             fewest_trips: f.value.len(),
-            fewest_seconds: score(&f.value.clusters)?,
+            fewest_seconds: cost.clustering_cost(&indices(&f.value)?),
             fewest_solve: f.stats.seconds,
             fewest_status: f.status,
             violations,
@@ -153,7 +185,10 @@ pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
         &|r| r.hierarchical_seconds,
         &|r| r.hierarchical_solve,
     );
-    let _ = writeln!(out, "| hierarchical (paper) | {a} | {b} | {c} | – |");
+    let _ = writeln!(
+        out,
+        "| hierarchical (paper), as taken | {a} | {b} | {c} | – |"
+    );
     let optimal = rows
         .iter()
         .filter(|r| r.milp_status == Status::Optimal)
@@ -187,10 +222,52 @@ pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
         .filter(|r| r.fewest_trips < r.hierarchical_trips)
         .count();
     let verified = rows.iter().filter(|r| r.violations.is_empty()).count();
+    let saved: Vec<f64> = rows
+        .iter()
+        .map(|r| r.hierarchical_seconds - r.milp_seconds)
+        .collect();
+    let (saved_mean, saved_std) = mean_std(&saved);
+    let half = crate::stats::t_95(n) * saved_std / (n as f64).sqrt();
+    let relative = crate::stats::mean(
+        rows.iter()
+            .map(|r| 1.0 - r.milp_seconds / r.hierarchical_seconds),
+    );
+    let (raw_trips, _) = mean_std(
+        &rows
+            .iter()
+            .map(|r| r.hierarchical_raw_trips as f64)
+            .collect::<Vec<_>>(),
+    );
+    let (raw_seconds, _) = mean_std(
+        &rows
+            .iter()
+            .map(|r| r.hierarchical_raw_seconds)
+            .collect::<Vec<_>>(),
+    );
+    let (unrowable, _) = mean_std(
+        &rows
+            .iter()
+            .map(|r| r.hierarchical_unrowable as f64)
+            .collect::<Vec<_>>(),
+    );
     let _ = writeln!(out);
     let _ = writeln!(
         out,
-        "- milp (time) predicted time ≤ hierarchical on {time_not_worse}/{n} scenes"
+        "- every row on equal terms: the same predicted-time cost, after the same row test (a \
+         hierarchical cluster whose members stand in no row the jaws take is split into single \
+         objects, as every pushing policy takes it; the MILP's candidates pass it already)"
+    );
+    let _ = writeln!(
+        out,
+        "- milp (time) predicted time ≤ hierarchical on {time_not_worse}/{n} scenes; it saves \
+         {saved_mean:.1} ± {half:.1} s per scene (paired, 95 %), {:.1} % of the hierarchical time",
+        relative * 100.0
+    );
+    let _ = writeln!(
+        out,
+        "- not comparable, for reference: the hierarchical clustering as it comes out has \
+         {raw_trips:.2} clusters and {raw_seconds:.1} s when each is counted whole, but {unrowable:.2} \
+         of them per scene admit no row, and no pushing policy can take them so"
     );
     let _ = writeln!(
         out,
