@@ -8,8 +8,8 @@ use super::tables::{PAPER_OPT, summarise};
 use crate::error::{Error, Result};
 use crate::stats::t_95;
 
-const SIZE: (u32, u32) = (720, 440);
-const COLOURS: [RGBColor; 6] = [
+pub(super) const SIZE: (u32, u32) = (720, 440);
+pub(super) const COLOURS: [RGBColor; 6] = [
     RGBColor(0x4e, 0x79, 0xa7),
     RGBColor(0xf2, 0x8e, 0x2b),
     RGBColor(0xe1, 0x57, 0x59),
@@ -18,7 +18,7 @@ const COLOURS: [RGBColor; 6] = [
     RGBColor(0x76, 0xb7, 0xb2),
 ];
 
-fn plot_error<E: std::fmt::Display>(e: E) -> Error {
+pub(super) fn plot_error<E: std::fmt::Display>(e: E) -> Error {
     Error::field("figure", "plot", e.to_string())
 }
 

@@ -8,6 +8,7 @@
 //! described in `experiments/README.md`.
 
 pub mod agreement;
+pub mod break_even;
 mod cluster_comparison;
 mod config;
 pub mod figures;

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::break_even::{break_even_markdown, ratio_to_sog_svg};
 use super::figures::{
     friction_svg, opt_per_policy_svg, picks_per_hour_svg, planning_time_svg, push_distance_svg,
 };
@@ -22,7 +23,8 @@ pub struct ReportPaths {
 
 /// Writes the tables of `log` to `tables` (as `<name>.md`, `.csv`, `.tex`, and `<name>-timing.*`)
 /// and its figures to `figures` (`<name>-opt.svg`; the bin-distance, friction or object-count plot
-/// when the log sweeps those; objects per trip against push distance, `<name>-push-distance.svg`,
+/// when the log sweeps those, and with a bin-distance sweep the ratio to sog with each policy's
+/// break-even distance, `<name>-ratio-to-sog.svg`, also stated under the Markdown table; objects per trip against push distance, `<name>-push-distance.svg`,
 /// when it sweeps nothing and two or more of its policies push).
 ///
 /// # Errors
@@ -35,7 +37,17 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
         files.push(path);
         Ok(())
     };
-    put(tables.join(format!("{name}.md")), results_markdown(log))?;
+    let config = &log.header.config;
+    let by_distance = config.sweep.bin_distance.len() > 1;
+    let mut markdown = results_markdown(log);
+    if by_distance {
+        let lines = break_even_markdown(log);
+        if !lines.is_empty() {
+            markdown.push('\n');
+            markdown.push_str(&lines);
+        }
+    }
+    put(tables.join(format!("{name}.md")), markdown)?;
     put(tables.join(format!("{name}.csv")), results_csv(log))?;
     put(tables.join(format!("{name}.tex")), results_latex(log))?;
     put(
@@ -47,12 +59,17 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
         figures.join(format!("{name}-opt.svg")),
         opt_per_policy_svg(log)?,
     )?;
-    let config = &log.header.config;
-    if config.sweep.bin_distance.len() > 1 {
+    if by_distance {
         put(
             figures.join(format!("{name}-picks-per-hour.svg")),
             picks_per_hour_svg(log)?,
         )?;
+        if !break_even_markdown(log).is_empty() {
+            put(
+                figures.join(format!("{name}-ratio-to-sog.svg")),
+                ratio_to_sog_svg(log)?,
+            )?;
+        }
     }
     if config.sweep.friction.len() > 1 {
         put(
