@@ -144,7 +144,30 @@ pub fn in_range(
     range: (f64, f64),
     why: &str,
 ) -> Result<()> {
-    bounded(component, field, value, value.is_finite(), range, why)
+    if value.is_finite() && value >= range.0 && value <= range.1 {
+        return Ok(());
+    }
+    Err(Error::field(
+        component,
+        field,
+        format!(
+            "must be between {} and {} ({why}), got {}",
+            number(range.0),
+            number(range.1),
+            number(value)
+        ),
+    ))
+}
+
+/// A number as a message shows it: plainly between 10⁻⁴ and 10⁹ (and 0), else in scientific
+/// notation, so `1e300` is not printed as three hundred digits.
+pub fn number(value: f64) -> String {
+    let size = value.abs();
+    if size == 0.0 || !size.is_finite() || (1e-4..1e9).contains(&size) {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
 }
 
 /// Checks that a count lies in `[low, high]`; otherwise an [`Error::InvalidField`] worded as

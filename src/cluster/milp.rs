@@ -51,6 +51,10 @@ pub enum MilpBackend {
     Highs,
 }
 
+/// Largest finite `max_diameter`, metres: the diagonal of a ±1000 m workspace (2000·√2 ≈ 2829 m), so
+/// any larger value would mean the same as no limit.
+const NO_DIAMETER_LIMIT: f64 = 2830.0;
+
 /// Settings of [`Milp`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
@@ -136,11 +140,19 @@ impl MilpSettings {
             ));
         }
         // The diameter may be infinite: no compactness limit (small instances, brute-force checks).
-        if self.max_diameter.is_nan() || self.max_diameter < 0.0 {
+        // From a file, the workspace's longest diagonal already means no limit.
+        if self.max_diameter.is_nan()
+            || self.max_diameter < 0.0
+            || (self.max_diameter.is_finite() && self.max_diameter > NO_DIAMETER_LIMIT)
+        {
             return Err(Error::field(
                 "milp",
                 "max_diameter",
-                format!("must be non-negative metres, got {}", self.max_diameter),
+                format!(
+                    "must be between 0 and {NO_DIAMETER_LIMIT} m (the diagonal of the largest \
+                     workspace, ±1000 m, which already means no limit), got {}",
+                    self.max_diameter
+                ),
             ));
         }
         crate::error::in_range("milp", "min_push", self.min_push, (0.0, 0.1), "metres")?;
@@ -152,16 +164,13 @@ impl MilpSettings {
             (0.0, 1.0),
             "a relative gap",
         )?;
-        if !(self.time_limit.is_finite() && self.time_limit > 0.0 && self.time_limit <= 3600.0) {
-            return Err(Error::field(
-                "milp",
-                "time_limit",
-                format!(
-                    "must be a positive number of seconds, at most 3600, got {}",
-                    self.time_limit
-                ),
-            ));
-        }
+        crate::error::in_range(
+            "milp",
+            "time_limit",
+            self.time_limit,
+            (0.001, 3600.0),
+            "seconds; under a millisecond not even the candidates are enumerated",
+        )?;
         for (field, value, high) in [
             ("max_candidates", self.max_candidates, 5_000_000),
             ("max_clash_rows", self.max_clash_rows, 50_000_000),

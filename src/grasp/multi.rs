@@ -146,12 +146,17 @@ impl MultiObjectSettings {
                 format!("must be in [0, 1], got {}", self.min_probability),
             ));
         }
-        if self.tries_per_set == 0 || self.max_judged == 0 || self.max_judged > 1000 {
-            return Err(Error::field(
+        for (field, value) in [
+            ("tries_per_set", self.tries_per_set),
+            ("max_judged", self.max_judged),
+        ] {
+            crate::error::count_in_range(
                 "multi",
-                "tries_per_set/max_judged",
-                "need at least one judged candidate, and at most 1000 per call",
-            ));
+                field,
+                value,
+                (1, 1000),
+                "judged candidates: at least one, and at most 1000 per call (each is a judgement)",
+            )?;
         }
         self.noise.validate()?;
         self.model.validate()

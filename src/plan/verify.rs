@@ -10,11 +10,12 @@
 //! - **looks** (new observations during a trip): each after a number of pushes in order, with the
 //!   trip's workspace and gripper and no object the trip's table did not hold; the pushes after a
 //!   look are checked on it;
-//! - **grasp**, on the table after the pushes (after the last look, on it): the opening lies within
-//!   the stroke; the open plates overlap no object; every object the grasp claims lies between the
-//!   plates; the claimed closed width is positive and at most both the sum of their diameters
-//!   (objects may turn while the jaws close) and the gap between the open plates (the plates are
-//!   short, so they may close past parts of objects beside them);
+//! - **grasp**, on the table after the pushes (after the last look, on it): the jaw angle (as every
+//!   push's) is finite and within ±`MAX_YAW`; the opening lies within the stroke; the open plates
+//!   overlap no object; every object the grasp claims lies between the plates; the claimed closed
+//!   width is positive and at most both the sum of their diameters (objects may turn while the jaws
+//!   close) and the gap between the open plates (the plates are short, so they may close past parts
+//!   of objects beside them);
 //! - **the record** ([`verify_record`]): times, objects carried once, tables that chain from trip to
 //!   trip, and a status that agrees with what is left.
 
@@ -26,7 +27,7 @@ use crate::cluster::summed_diameter;
 use crate::geometry::{
     ConvexPolygon, cast_distance, overlap, penetration_depth, point_bounds, separating_line,
 };
-use crate::scene::{Gripper, ObjectId, Scene};
+use crate::scene::{Gripper, MAX_YAW, ObjectId, Scene};
 
 /// Numerical slack of the checks, metres.
 const TOLERANCE: f64 = 1e-9;
@@ -484,6 +485,13 @@ fn check_pushes(
             }
         }
         let fork = &push.fork;
+        if !angle_ok(fork.jaw_angle) {
+            found.push(format!(
+                "push {n}: jaw angle {} rad is not an angle within ±{MAX_YAW} rad",
+                crate::error::number(fork.jaw_angle)
+            ));
+            continue;
+        }
         let jaw_line = Vector2::new(fork.jaw_angle.cos(), fork.jaw_angle.sin());
         if jaw_line.dot(&direction).abs() > 1e-6 {
             found.push(format!(
@@ -534,9 +542,26 @@ fn check_pushes(
     world
 }
 
+/// An angle the plan may give: finite and, like an object's yaw, within ±[`MAX_YAW`] radians (far
+/// larger values cannot be reduced to an angle accurately).
+fn angle_ok(angle: f64) -> bool {
+    angle.is_finite() && angle.abs() <= MAX_YAW
+}
+
 fn check_grasp(scene: &Scene, world: &[ConvexPolygon], trip: &Trip, found: &mut Vec<String>) {
     let gripper = scene.gripper();
     let jaws = &trip.grasp.jaws;
+    if !angle_ok(jaws.angle) {
+        found.push(format!(
+            "grasp: jaw angle {} rad is not an angle within ±{MAX_YAW} rad",
+            crate::error::number(jaws.angle)
+        ));
+        return;
+    }
+    if !(jaws.center.x.is_finite() && jaws.center.y.is_finite()) {
+        found.push("grasp: the jaws' centre is not finite".to_string());
+        return;
+    }
     if !(jaws.opening > gripper.plate_thickness && jaws.opening <= gripper.stroke + TOLERANCE) {
         found.push(format!(
             "grasp: opening {:.1} mm is outside the gripper's range",

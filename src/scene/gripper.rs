@@ -34,6 +34,14 @@ impl Default for Gripper {
     }
 }
 
+/// Widest stroke accepted, metres. Parallel-jaw grippers for tabletop picking open well under this
+/// (the 2F-85 0.085 m, the 2F-140 0.140 m); a larger value is almost always a unit mistake.
+pub const MAX_STROKE: f64 = 0.5;
+
+/// Longest jaw plate accepted, metres: ten times the 2F-85 fingertip pad. A longer plate is a paddle,
+/// not a finger the grasp model describes.
+pub const MAX_PLATE_LENGTH: f64 = 0.22;
+
 impl Gripper {
     /// The widest row of objects the jaws can close on, metres: the stroke minus one plate thickness
     /// (half a plate on each side of the plate centres).
@@ -49,8 +57,9 @@ impl Gripper {
     /// Checks every field.
     ///
     /// # Errors
-    /// [`Error::InvalidField`] naming the field when a value is not finite or not positive, the plates
-    /// are as thick as the stroke, or the fork-push fraction is outside `(0, 1]`.
+    /// [`Error::InvalidField`] naming the field when a value is not finite or not positive, the stroke
+    /// exceeds [`MAX_STROKE`] or the plates [`MAX_PLATE_LENGTH`], the plates are as thick as the
+    /// stroke, or the fork-push fraction is outside `(0, 1]`.
     pub fn validate(&self) -> Result<()> {
         for (field, value) in [
             ("stroke", self.stroke),
@@ -65,7 +74,35 @@ impl Gripper {
                 return Err(Error::field(
                     "gripper",
                     field,
-                    format!("must be a positive finite number, got {value}"),
+                    format!(
+                        "must be a positive finite number, got {}",
+                        crate::error::number(value)
+                    ),
+                ));
+            }
+        }
+        for (field, value, most, why) in [
+            (
+                "stroke",
+                self.stroke,
+                MAX_STROKE,
+                "parallel-jaw grippers open well under this; the 2F-85 opens 0.085 m",
+            ),
+            (
+                "plate_length",
+                self.plate_length,
+                MAX_PLATE_LENGTH,
+                "ten times the 2F-85 fingertip pad; a longer plate is a paddle",
+            ),
+        ] {
+            if value > most {
+                return Err(Error::field(
+                    "gripper",
+                    field,
+                    format!(
+                        "{} m is more than {most} m: {why} (were millimetres given?)",
+                        crate::error::number(value)
+                    ),
                 ));
             }
         }

@@ -2,7 +2,9 @@
 //!
 //! A [`Scene`] is validated once, in [`Scene::new`] (from the JSON form [`SceneSpec`]) or
 //! [`Scene::from_parts`] (from validated [`Object`]s); code that holds one trusts it: every outline is a
-//! convex polygon, ids are unique, poses are finite, objects lie inside the workspace and do not overlap.
+//! convex polygon, ids are unique, poses are finite, objects lie inside the workspace and do not overlap,
+//! and every size, height, mass and yaw lies within the bounds `validation.rs` and `gripper.rs` state
+//! with their reasons; a scene holds at most [`MAX_OBJECTS`] objects.
 //! Each object's table-frame outline and minimum grasp diameter are computed at construction.
 //!
 //! The JSON form is
@@ -24,11 +26,13 @@ use crate::error::Result;
 use crate::geometry::{ConvexPolygon, Discs, GraspDiameter, min_grasp_diameter};
 
 pub use generator::{GeneratorSettings, MAX_OBJECTS, generate_scene};
-pub use gripper::Gripper;
+pub use gripper::{Gripper, MAX_PLATE_LENGTH, MAX_STROKE};
 pub use library::{LibraryObject, ObjectSet, builtin_object_set};
 pub use object::{Object, ObjectId, ObjectSpec, Pose};
 pub use perturb::perturb;
-pub use validation::MAX_VERTICES;
+pub use validation::{
+    MAX_HEIGHT, MAX_MASS, MAX_VERTICES, MAX_YAW, MIN_HEIGHT, MIN_MASS, MIN_WIDTH,
+};
 pub use validation::{OUTSIDE_TOLERANCE, OVERLAP_TOLERANCE};
 pub use workspace::{MAX_COORDINATE, Workspace};
 
@@ -87,6 +91,13 @@ impl Scene {
     ) -> Result<Self> {
         workspace.validate()?;
         gripper.validate()?;
+        crate::error::count_in_range(
+            "scene",
+            "objects",
+            objects.len(),
+            (0, MAX_OBJECTS),
+            "planning is measured up to 1000 objects; beyond ten times that a scene is not a table",
+        )?;
         let world: Vec<ConvexPolygon> = objects.iter().map(Object::world_polygon).collect();
         let discs = Discs::of(&world);
         validation::check_objects(&workspace, &objects, &world, &discs)?;

@@ -7,7 +7,7 @@ use nalgebra::Point2;
 
 use super::object::{Object, ObjectSpec};
 use super::workspace::{MAX_COORDINATE, Workspace};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, number};
 use crate::geometry::{
     ConvexPolygon, Discs, SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, min_grasp_diameter,
     penetration_depth, simplify,
@@ -23,6 +23,32 @@ pub const OUTSIDE_TOLERANCE: f64 = 1e-9;
 /// Most vertices an object's outline may be given with: a contour traced every 10 µm around a
 /// 0.3 m object. Reading is linear in the count; the planner sees the simplified outline.
 pub const MAX_VERTICES: usize = 100_000;
+
+/// Tallest object accepted, metres. A parallel-jaw gripper takes tabletop objects from the side at
+/// about mid-height; an object two metres tall is taller than the arm's reach above the table (the
+/// UR5 reaches 0.85 m) and is almost always a unit mistake.
+pub const MAX_HEIGHT: f64 = 2.0;
+
+/// Flattest object accepted, metres. The fingertips clear the table by at least 3 mm
+/// (`fork.min_height`); below 1 mm a pad closes on nothing but the table.
+pub const MIN_HEIGHT: f64 = 0.001;
+
+/// Heaviest object accepted, kilograms: ten times the 5 kg payload of the UR5 and of the Robotiq 2F-85
+/// (both manufacturers' data sheets); nothing heavier is a tabletop pick.
+pub const MAX_MASS: f64 = 50.0;
+
+/// Lightest object accepted, kilograms (1 g, a paper clip). Much lighter bodies make the simulator's
+/// contact solve stiff and are not what the grasp model was built for.
+pub const MIN_MASS: f64 = 0.001;
+
+/// Largest yaw magnitude accepted, radians (16 turns). Any orientation is within ±π; larger values
+/// are usually degrees, and far larger ones cannot be reduced to an angle accurately (at 1e17 rad
+/// neighbouring doubles are 16 rad apart).
+pub const MAX_YAW: f64 = 100.0;
+
+/// Narrowest outline accepted, metres: its minimum grasp diameter. Below 1 mm the object is under
+/// the perception noise (2 mm) and the pads' compliance; such a value is almost always a unit mistake.
+pub const MIN_WIDTH: f64 = 0.001;
 
 /// Builds a validated object from its JSON form; `index` is its position in the `objects` list.
 ///
@@ -117,25 +143,41 @@ fn check_fields(index: usize, object: &Object) -> Result<()> {
             format!("x, y and yaw must be finite, got {:?}", object.pose),
         ));
     }
-    if !(object.height.is_finite() && object.height > 0.0) {
+    if object.pose.yaw.abs() > MAX_YAW {
+        return Err(invalid(
+            index,
+            object,
+            "pose",
+            format!(
+                "yaw {} rad: an angle in radians, within ±{MAX_YAW} (were degrees given?)",
+                number(object.pose.yaw)
+            ),
+        ));
+    }
+    if !(object.height.is_finite() && (MIN_HEIGHT..=MAX_HEIGHT).contains(&object.height)) {
         return Err(invalid(
             index,
             object,
             "height",
             format!(
-                "must be a positive finite number of metres, got {}",
-                object.height
+                "must be between {MIN_HEIGHT} and {MAX_HEIGHT} m (a tabletop object the jaws take \
+                 from the side), got {}",
+                number(object.height)
             ),
         ));
     }
     if let Some(mass) = object.mass
-        && !(mass.is_finite() && mass > 0.0)
+        && !(mass.is_finite() && (MIN_MASS..=MAX_MASS).contains(&mass))
     {
         return Err(invalid(
             index,
             object,
             "mass",
-            format!("must be a positive finite number of kilograms, got {mass}"),
+            format!(
+                "must be between {MIN_MASS} and {MAX_MASS} kg (the arm and gripper carry 5 kg), \
+                 got {}",
+                number(mass)
+            ),
         ));
     }
     Ok(())
@@ -150,6 +192,18 @@ fn check_scale(workspace: &Workspace, index: usize, object: &Object) -> Result<(
         .flat_map(|a| polygon.vertices().iter().map(move |b| (a - b).norm()))
         .fold(0.0, f64::max);
     let narrowest = min_grasp_diameter(polygon).diameter;
+    if narrowest < MIN_WIDTH {
+        return Err(invalid(
+            index,
+            object,
+            "vertices",
+            format!(
+                "the outline is {:.3e} m at its narrowest, under {MIN_WIDTH} m; lengths are in \
+                 metres (were kilometres given?)",
+                narrowest
+            ),
+        ));
+    }
     let shorter_side = workspace.width().min(workspace.depth());
     if span > workspace.diagonal() || narrowest > shorter_side {
         return Err(invalid(
