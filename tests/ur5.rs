@@ -326,15 +326,15 @@ fn the_envelope_refuses_before_any_byte_is_sent() {
     assert!(controller.programs().is_empty());
     assert!(gripper_moves(&gripper).is_empty());
 
-    // A speed over the limit is refused too.
+    // A speed over the limit is refused too, already in the robot file.
     let mut fast = config.clone();
     fast.safety.min[0] = -0.55;
     fast.speeds.travel = 0.5;
-    let translator = Translator::new(fast).unwrap();
-    let error = translator
-        .check(&plan_steps(&translator, &fixture_plan()).unwrap(), 0)
-        .unwrap_err();
-    assert!(error.to_string().contains("exceeds the limit"), "{error}");
+    let error = Translator::new(fast).unwrap_err();
+    assert!(
+        error.to_string().contains("speeds.travel") && error.to_string().contains("max_speed"),
+        "{error}"
+    );
 }
 
 /// Writes `config` as `dir/robot.toml` and runs `pushmog execute <fixture plan> --robot robot.toml`
@@ -646,6 +646,90 @@ fn bad_robot_configurations_name_the_field() {
             .unwrap_err()
             .to_string();
         assert!(error.contains(named), "{to}: {error}");
+    }
+}
+
+/// Issue 38, defect 4: values the UR5 and the 2F-85 cannot take, each refused naming its field.
+#[test]
+fn robot_files_outside_the_arms_and_grippers_ranges_are_refused() {
+    let example = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
+    )
+    .unwrap();
+    let cases = [
+        ("travel = 0.25", "travel = 1e-300", "speeds.travel"),
+        ("push = 0.05", "push = 0.5", "speeds.push"), // above max_speed 0.30
+        ("max_speed = 0.30", "max_speed = 300.0", "safety.max_speed"),
+        ("max_speed = 0.30", "max_speed = 1e308", "safety.max_speed"),
+        ("connect = 3.0", "connect = 1e308", "timeouts.connect"),
+        (
+            "motion_margin = 5.0",
+            "motion_margin = 1e308",
+            "timeouts.motion_margin",
+        ),
+        (
+            "script_port = 30002",
+            "script_port = 0",
+            "controller.script_port",
+        ),
+        (
+            "tcp = [0.0, 0.0, 0.175, 0.0, 0.0, 0.0]",
+            "tcp = [0.0, 0.0, 100.0, 0.0, 0.0, 0.0]",
+            "tcp[2]",
+        ),
+        (
+            "tcp = [0.0, 0.0, 0.175, 0.0, 0.0, 0.0]",
+            "tcp = [0.0, 0.0, 0.175, 0.0, 0.0, 1e300]",
+            "tcp",
+        ),
+        ("host = \"192.168.1.10\"", "host = \"\"", "controller.host"),
+        ("open_gap = 0.085", "open_gap = 1e-300", "gripper.open_gap"),
+        (
+            "plate_thickness = 0.010",
+            "plate_thickness = 300.0",
+            "gripper.plate_thickness",
+        ),
+        (
+            "drop = [-0.45, 0.50, 0.20]",
+            "drop = [-0.45, 0.50, 200.0]",
+            "bin.drop[2]",
+        ),
+    ];
+    for (from, to, named) in cases {
+        assert!(example.contains(from), "{from}");
+        let text = example.replacen(from, to, 1);
+        let error = RobotConfig::from_toml(&text, "cell.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(named), "{to}: {error}");
+    }
+}
+
+/// Issue 38, defect 5: a plan made for wider jaws or other plates than the robot's is refused by
+/// `execute`, naming the trip and the field, and no program is written.
+#[test]
+fn execute_refuses_a_plan_that_does_not_fit_the_configured_gripper() {
+    for (field, narrow) in [
+        ("gripper.open_gap", 0.04),
+        ("gripper.plate_thickness", 0.02),
+    ] {
+        let mut config = example_config();
+        match field {
+            "gripper.open_gap" => config.gripper.open_gap = narrow,
+            _ => config.gripper.plate_thickness = narrow,
+        }
+        config.validate().unwrap();
+        let dir = scratch(&format!("ur5-fit-{}", field.replace('.', "-")));
+        let folder = dir.join("out");
+        let out = execute_fixture_plan(&config, &dir, &["--out", folder.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1), "{field}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains(field) && stderr.contains("trip 1"),
+            "{stderr}"
+        );
+        let written = std::fs::read_dir(&folder).map_or(0, |d| d.count());
+        assert_eq!(written, 0, "{field}: wrote {written} files");
     }
 }
 

@@ -252,6 +252,28 @@ impl Default for TimeoutsConfig {
     }
 }
 
+/// Fastest tool speed a robot file may ask for, m/s: the UR5's rated tool speed (data sheet, "typical
+/// tool speed 1 m/s"). Its safety system accepts higher limits; a tabletop pick does not need them.
+pub const MAX_TOOL_SPEED: f64 = 1.0;
+
+/// Slowest tool speed, m/s: at 1 mm/s a 0.5 m travel takes over eight minutes; anything slower
+/// commands a standstill.
+pub const MIN_TOOL_SPEED: f64 = 0.001;
+
+/// Longest wait, seconds: ten minutes.
+const MAX_WAIT: f64 = 600.0;
+
+/// Largest coordinate of a pose in the base frame, metres: a little over the UR5's 0.85 m reach
+/// (data sheet), for a base mounted off the table's plane.
+pub const MAX_REACH: f64 = 1.0;
+
+/// Largest offset of the tool centre point from the flange, metres.
+const MAX_TCP_OFFSET: f64 = 0.5;
+
+/// Widest gap between open pads, metres: the Robotiq 2F-140's 140 mm, the widest gripper the same
+/// URCap socket drives, with a margin.
+pub const MAX_OPEN_GAP: f64 = 0.15;
+
 impl RobotConfig {
     /// Reads and checks a TOML configuration file.
     ///
@@ -280,41 +302,147 @@ impl RobotConfig {
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
         let bad = |field: &str, reason: String| Err(Error::field("robot config", field, reason));
-        let positive = [
+        let within = |field: &str, value: f64, (low, high): (f64, f64), why: &str| {
+            crate::error::in_range("robot config", field, value, (low, high), why)
+        };
+        // Ranges and their sources: `formulations/ur5.md`, "What the robot file may say".
+        within(
+            "safety.max_speed",
+            self.safety.max_speed,
+            (0.001, MAX_TOOL_SPEED),
+            "m/s; the UR5's rated tool speed is 1 m/s",
+        )?;
+        for (field, value) in [
             ("speeds.travel", self.speeds.travel),
+            ("speeds.vertical", self.speeds.vertical),
+            ("speeds.push", self.speeds.push),
+        ] {
+            within(
+                field,
+                value,
+                (MIN_TOOL_SPEED, self.safety.max_speed),
+                "m/s, at most safety.max_speed; below 1 mm/s a motion is a standstill",
+            )?;
+        }
+        for (field, value) in [
             (
                 "speeds.travel_acceleration",
                 self.speeds.travel_acceleration,
             ),
-            ("speeds.vertical", self.speeds.vertical),
-            ("speeds.push", self.speeds.push),
             (
                 "speeds.contact_acceleration",
                 self.speeds.contact_acceleration,
             ),
-            ("safety.max_speed", self.safety.max_speed),
-            ("controller.rtde_frequency", self.controller.rtde_frequency),
+        ] {
+            within(
+                field,
+                value,
+                (0.01, 5.0),
+                "m/s²; URScript's default tool acceleration is 1.2",
+            )?;
+        }
+        within(
+            "controller.rtde_frequency",
+            self.controller.rtde_frequency,
+            (1.0, 500.0),
+            "Hz; CB3 controllers offer up to 125, e-Series up to 500",
+        )?;
+        for (field, value) in [
             ("timeouts.connect", self.timeouts.connect),
             ("timeouts.reply", self.timeouts.reply),
             ("timeouts.gripper", self.timeouts.gripper),
-            ("calibration.max_residual", self.calibration.max_residual),
-        ];
-        for (field, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return bad(field, format!("must be a positive number, got {value}"));
+        ] {
+            within(
+                field,
+                value,
+                (0.01, MAX_WAIT),
+                "seconds; longer than ten minutes is a hang, not a wait",
+            )?;
+        }
+        within(
+            "timeouts.motion_margin",
+            self.timeouts.motion_margin,
+            (0.0, MAX_WAIT),
+            "seconds; longer than ten minutes is a hang, not a wait",
+        )?;
+        within(
+            "calibration.max_residual",
+            self.calibration.max_residual,
+            (1e-6, 0.05),
+            "metres; a fit off by more than 5 cm is no calibration",
+        )?;
+        within(
+            "heights.clearance",
+            self.heights.clearance,
+            (0.0, 0.5),
+            "metres above the tallest object",
+        )?;
+        within(
+            "heights.grasp",
+            self.heights.grasp,
+            (0.0, 0.1),
+            "metres of the fingertips above the table",
+        )?;
+        within(
+            "heights.table",
+            self.heights.table,
+            (-MAX_REACH, MAX_REACH),
+            "metres; the UR5 reaches 0.85 m",
+        )?;
+        within(
+            "gripper.open_gap",
+            self.gripper.open_gap,
+            (0.01, MAX_OPEN_GAP),
+            "metres between the pads fully open; the 2F-85 opens 0.085, the 2F-140 0.140",
+        )?;
+        within(
+            "gripper.closed_gap",
+            self.gripper.closed_gap,
+            (0.0, MAX_OPEN_GAP),
+            "metres between the pads fully closed",
+        )?;
+        within(
+            "gripper.plate_thickness",
+            self.gripper.plate_thickness,
+            (0.0, 0.05),
+            "metres; the 2F-85's plates are 0.010",
+        )?;
+        for (axis, &value) in self.tcp[..3].iter().enumerate() {
+            within(
+                &format!("tcp[{axis}]"),
+                value,
+                (-MAX_TCP_OFFSET, MAX_TCP_OFFSET),
+                "metres from the flange; the 2F-85's fingertips are about 0.175 m from it",
+            )?;
+        }
+        let turn = self.tcp[3..].iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(turn.is_finite() && turn <= std::f64::consts::TAU) {
+            return bad(
+                "tcp",
+                format!(
+                    "the rotation [rx, ry, rz] is an axis-angle vector of at most 2π rad, got a \
+                     norm of {turn}"
+                ),
+            );
+        }
+        for (field, port) in [
+            ("controller.script_port", self.controller.script_port),
+            ("controller.rtde_port", self.controller.rtde_port),
+            ("controller.gripper_port", self.controller.gripper_port),
+        ] {
+            if port == 0 {
+                return bad(
+                    field,
+                    "port 0 is not a port a controller listens on".to_string(),
+                );
             }
         }
-        let non_negative = [
-            ("heights.clearance", self.heights.clearance),
-            ("heights.grasp", self.heights.grasp),
-            ("timeouts.motion_margin", self.timeouts.motion_margin),
-            ("gripper.plate_thickness", self.gripper.plate_thickness),
-            ("gripper.closed_gap", self.gripper.closed_gap),
-        ];
-        for (field, value) in non_negative {
-            if !(value.is_finite() && value >= 0.0) {
-                return bad(field, format!("must be a number ≥ 0, got {value}"));
-            }
+        let host = &self.controller.host;
+        if host.is_empty() || host.chars().any(|c| c.is_whitespace() || c.is_control()) {
+            return bad(
+                "controller.host",
+                format!("must be a host name or IP address, got {host:?}"),
+            );
         }
         if !self.heights.table.is_finite() {
             return bad("heights.table", "must be finite".to_string());
@@ -325,13 +453,13 @@ impl RobotConfig {
                 format!("must lie in [0, 1], got {}", self.heights.push_fraction),
             );
         }
-        if let Some(h) = self.heights.object_height
-            && !(h.is_finite() && h > 0.0)
-        {
-            return bad(
+        if let Some(h) = self.heights.object_height {
+            within(
                 "heights.object_height",
-                format!("must be positive, got {h}"),
-            );
+                h,
+                (crate::scene::MIN_HEIGHT, crate::scene::MAX_HEIGHT),
+                "metres, as an object's height in a scene",
+            )?;
         }
         if self.gripper.closed_count <= self.gripper.open_count {
             return bad(
@@ -355,18 +483,21 @@ impl RobotConfig {
             return bad("tcp", "every entry must be finite".to_string());
         }
         for axis in 0..3 {
-            if !(self.safety.min[axis].is_finite()
-                && self.safety.max[axis].is_finite()
-                && self.safety.min[axis] < self.safety.max[axis])
-            {
-                return bad(
-                    "safety",
-                    format!("min[{axis}] must be below max[{axis}] and both finite"),
-                );
+            for (field, value) in [
+                (format!("safety.min[{axis}]"), self.safety.min[axis]),
+                (format!("safety.max[{axis}]"), self.safety.max[axis]),
+                (format!("bin.drop[{axis}]"), self.bin.drop[axis]),
+            ] {
+                within(
+                    &field,
+                    value,
+                    (-MAX_REACH, MAX_REACH),
+                    "metres in the base frame; the UR5 reaches 0.85 m",
+                )?;
             }
-        }
-        if self.bin.drop.iter().any(|v| !v.is_finite()) {
-            return bad("bin.drop", "every entry must be finite".to_string());
+            if self.safety.min[axis] >= self.safety.max[axis] {
+                return bad("safety", format!("min[{axis}] must be below max[{axis}]"));
+            }
         }
         let calibration = self.calibration()?;
         if calibration.rms_residual > self.calibration.max_residual {

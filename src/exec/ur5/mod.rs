@@ -20,6 +20,7 @@
 mod calibration;
 mod config;
 pub mod fake;
+mod fits;
 mod link;
 mod motion;
 mod rtde;
@@ -34,6 +35,7 @@ pub use config::{
     BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, RobotConfig,
     SafetyConfig, SpeedsConfig, TimeoutsConfig,
 };
+pub use fits::{FIT_TOLERANCE, check_trip_fits};
 pub use link::{DryRun, Fault, Live, RobotLink};
 pub use motion::{Action, LinearMove, Phase, Step, ToolPose, Translator, move_duration};
 pub use rtde::RobotState;
@@ -240,11 +242,19 @@ pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Re
 /// Every robot step of a recorded plan.
 ///
 /// # Errors
-/// [`Error::InvalidField`] when a trip's scene is invalid.
+/// [`Error::InvalidField`] when a trip's scene is invalid, or a trip does not fit the configured
+/// gripper ([`check_trip_fits`], naming the trip and the field).
 pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
     let mut steps = Vec::new();
     for (t, trip) in plan.trips.iter().enumerate() {
         let scene = Scene::new(trip.scene.clone())?;
+        check_trip_fits(
+            &translator.config().gripper,
+            scene.gripper(),
+            &trip.pushes,
+            Some(&trip.grasp),
+            t + 1,
+        )?;
         steps.extend(translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1));
     }
     Ok(steps)
@@ -343,6 +353,13 @@ impl<L: RobotLink> Executor for Ur5<L> {
     fn push(&mut self, push: &Push) -> Result<Option<Landing>> {
         let done = self.current_trip()?.pushes.len();
         let name = format!("trip {}, push {}", self.record.len(), done + 1);
+        check_trip_fits(
+            &self.runner.translator().config().gripper,
+            self.scene()?.gripper(),
+            std::slice::from_ref(push),
+            None,
+            self.record.len(),
+        )?;
         let steps = self
             .runner
             .translator()
@@ -357,6 +374,13 @@ impl<L: RobotLink> Executor for Ur5<L> {
     fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
         self.current_trip()?;
         let name = format!("trip {}, grasp", self.record.len());
+        check_trip_fits(
+            &self.runner.translator().config().gripper,
+            self.scene()?.gripper(),
+            &[],
+            Some(grasp),
+            self.record.len(),
+        )?;
         let steps = self
             .runner
             .translator()
