@@ -17,11 +17,28 @@ use serde_json::Value;
 use crate::error::{Error, Result};
 use crate::scene::{Scene, SceneSpec};
 
-/// Parses `text` as a `T`; `source_name` (a path or `<stdin>`) goes into error messages.
+/// Parses `text`, a JSON object, as a `T`; `source_name` (a path or `<stdin>`) goes into error
+/// messages. A leading UTF-8 byte-order mark is skipped.
 ///
 /// # Errors
 /// [`Error::Json`] with line, column and field path.
 pub fn from_json<T: DeserializeOwned>(text: &str, source_name: &str) -> Result<T> {
+    // Editors on some systems start UTF-8 files with a byte-order mark; it carries nothing.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Every document pushmog reads is an object; serde would also take a struct from an array of
+    // its fields in order, so `[]` would silently mean "all defaults".
+    if let Some(first) = text.trim_start().chars().next()
+        && first != '{'
+    {
+        let before = &text[..text.len() - text.trim_start().len()];
+        return Err(Error::Json {
+            source_name: source_name.to_string(),
+            line: before.matches('\n').count() + 1,
+            column: before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1,
+            path: String::new(),
+            message: format!("expected a JSON object `{{…}}`, found `{first}`"),
+        });
+    }
     let mut deserializer = serde_json::Deserializer::from_str(text);
     let to_error = |path: String, inner: serde_json::Error| Error::Json {
         source_name: source_name.to_string(),
@@ -238,9 +255,47 @@ where
     })
 }
 
+/// A list that, when given, holds at least one number: an empty list given on purpose is a mistake
+/// (leaving the key out is how not to sweep). Use with `#[serde(default)]`.
+///
+/// # Errors
+/// A deserialisation error for an empty list.
+pub fn non_empty_list<'de, D>(deserializer: D) -> std::result::Result<Vec<f64>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    let values = <Vec<f64> as serde::Deserialize>::deserialize(deserializer)?;
+    if values.is_empty() {
+        return Err(serde::de::Error::invalid_length(
+            0,
+            &"at least one value (leave the key out to keep the executor's own)",
+        ));
+    }
+    Ok(values)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 38, defect 7: `[]` is not "all defaults", and a byte-order mark is not an error.
+    #[test]
+    fn documents_must_be_objects_and_may_start_with_a_byte_order_mark() {
+        #[derive(serde::Deserialize, Default, Debug)]
+        #[serde(default)]
+        struct Settings {
+            min_push: f64,
+        }
+        let error = from_json::<Settings>(" \n []", "s.json")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("line 2") && error.contains("expected a JSON object"),
+            "{error}"
+        );
+        let read: Settings = from_json("\u{feff}{\"min_push\": 0.004}", "s.json").unwrap();
+        assert_eq!(read.min_push, 0.004);
+    }
 
     #[test]
     fn errors_give_line_column_and_path() {

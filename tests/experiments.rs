@@ -291,6 +291,66 @@ fn damaged_logs_are_mended_or_refused_with_the_line() {
     assert_eq!(report.status.code(), Some(1));
 }
 
+/// Issue 38, defect 7: a header or row that no longer agrees with the log's own configuration is
+/// refused by `read_log` (and so by `report` and a resume), naming what disagrees.
+#[test]
+fn edited_logs_are_refused_with_what_disagrees() {
+    let dir = scratch("experiment-edited");
+    let config = config("ideal");
+    let log = dir.join("log.jsonl");
+    run_experiment(&config, &dir, &options(&log, (0, 1), None)).unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    let header = text.lines().next().unwrap();
+    let runs = config.runs().len();
+    let hash = read_log(&log).unwrap().header.config_hash;
+    let row = text.lines().nth(1).unwrap();
+    let carried = row.split("\"carried\":").nth(1).unwrap();
+    let carried = &carried[..carried.find(',').unwrap()];
+    let cases = [
+        (
+            header.to_string(),
+            header.replace(&hash, "0123456789abcdef"),
+            "config_hash",
+        ),
+        (
+            header.to_string(),
+            header.replace(
+                &format!("\"runs\":{runs}"),
+                &format!("\"runs\":{}", runs + 1),
+            ),
+            "runs",
+        ),
+        (
+            row.to_string(),
+            row.replace(&format!("\"carried\":{carried},"), "\"carried\":1000,"),
+            "carried 1000",
+        ),
+    ];
+    for (from, to, named) in cases {
+        assert_ne!(from, to, "{named}: the edit changed nothing");
+        let edited = dir.join("edited.jsonl");
+        std::fs::write(&edited, text.replacen(&from, &to, 1)).unwrap();
+        let error = read_log(&edited).unwrap_err().to_string();
+        assert!(error.contains(named), "{named}: {error}");
+        let resumed = run_experiment(&config, &dir, &options(&edited, (0, 1), None));
+        assert!(resumed.is_err(), "{named}: resumed");
+    }
+}
+
+/// Issue 38, defect 6: two policies with one label would be merged into one table row.
+#[test]
+fn two_policies_with_one_label_are_refused_naming_both() {
+    let mut config = config("ideal");
+    config.policies[1].name = config.policies[0].name;
+    let error = config.validate().unwrap_err().to_string();
+    assert!(
+        error.contains("policies 1 and 2") && error.contains("`sog`"),
+        "{error}"
+    );
+    config.policies[1].label = Some("sog, again".to_string());
+    config.validate().unwrap();
+}
+
 #[test]
 fn a_workspace_with_three_numbers_is_refused() {
     let text = std::fs::read_to_string(

@@ -5,6 +5,8 @@
 //! planned and the plan must pass the independent verifier; policy settings that are read plan a
 //! small scene.
 //!
+//! Experiment logs are mutated in their header, with rows that then no longer match it.
+//!
 //! The short run in `cargo test` takes 48 cases per format; `PUSHMOG_FUZZ_CASES=5000 cargo test
 //! fuzz` runs a longer campaign. Inputs that once broke the tool live in `fixtures/fuzz/` and run
 //! every time (`regressions_are_read_or_refused`).
@@ -269,9 +271,35 @@ fn mutated_robot_configurations_are_read_or_refused() {
     });
 }
 
-/// Every input in `fixtures/fuzz/` once crashed, hung or exhausted memory. Each is now read and
-/// handled, or refused with an error; scenes that are read are planned by the optimal policy and the
-/// plan verifies.
+#[test]
+fn mutated_experiment_logs_are_read_or_refused() {
+    let text = std::fs::read_to_string(fixture("../../experiments/results/paper.jsonl")).unwrap();
+    let mut lines = text.lines();
+    let header: Value = serde_json::from_str(lines.next().unwrap()).unwrap();
+    let rows: Vec<&str> = lines.take(3).collect();
+    let folder = super::support::scratch("fuzz-logs");
+    let counter = std::sync::atomic::AtomicUsize::new(0);
+    // The header is mutated; the rows follow it unchanged, so a header that no longer describes
+    // them must be refused rather than read.
+    fuzz(&header, false, &|text| {
+        let n = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let path = folder.join(format!("log-{n}.jsonl"));
+        let mut log = format!("{text}\n");
+        for row in &rows {
+            log.push_str(row);
+            log.push('\n');
+        }
+        std::fs::write(&path, log).unwrap();
+        if let Ok(log) = pushmog::experiment::read_log(&path) {
+            let _ = pushmog::experiment::tables::results_markdown(&log);
+        }
+    });
+}
+
+/// Every input in `fixtures/fuzz/` once crashed, hung, exhausted memory or was accepted silently.
+/// Each is now read and handled, or refused with an error; scenes that are read are planned by the
+/// optimal policy and the plan verifies. `bounded-scene-*`, `robot-*`, `policy-*`, `sim-*` and
+/// `experiment-*` inputs must be refused (issue 38 added the values without a bound).
 #[test]
 fn regressions_are_read_or_refused() {
     let folder = fixture("fuzz");
@@ -297,6 +325,16 @@ fn regressions_are_read_or_refused() {
         } else if name.starts_with("experiment-") {
             assert!(
                 ExperimentConfig::from_toml(&text, &name).is_err(),
+                "{name} should be refused"
+            );
+        } else if name.starts_with("bounded-scene-") {
+            assert!(
+                scene_from_json(&text, &name).is_err(),
+                "{name} should be refused"
+            );
+        } else if name.starts_with("robot-") {
+            assert!(
+                RobotConfig::from_toml(&text, &name).is_err(),
                 "{name} should be refused"
             );
         } else {

@@ -154,8 +154,13 @@ pub struct SweepConfig {
     pub bin_distance: Vec<f64>,
     /// Coulomb friction at the simulator's finger pads and between objects (`friction_finger` and
     /// `friction_object` together); empty keeps the executor's settings. The planners' grasp models
-    /// keep their own friction: this varies the world, not what the planner believes.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// keep their own friction: this varies the world, not what the planner believes. When given,
+    /// at least one value.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "crate::json::non_empty_list"
+    )]
     pub friction: Vec<f64>,
 }
 
@@ -353,6 +358,24 @@ impl ExperimentConfig {
                 "sweep.friction",
                 "sweeps the simulator's friction: needs `executor.kind = \"sim\"`",
             ));
+        }
+        for (second, policy) in self.policies.iter().enumerate() {
+            let label = policy.label();
+            if let Some(first) = self.policies[..second]
+                .iter()
+                .position(|p| p.label() == label)
+            {
+                return Err(Error::field(
+                    component,
+                    "policies.label",
+                    format!(
+                        "policies {} and {} are both labelled `{label}`; each row of the tables is \
+                         one label, so give each policy its own (`label = \"…\"`)",
+                        first + 1,
+                        second + 1
+                    ),
+                ));
+            }
         }
         self.executor.settings.validate()?;
         for policy in &self.policies {

@@ -5,13 +5,18 @@
 //! measurements are kept in the `timing` object so that everything else is reproducible. A log is
 //! always a prefix of its shard's runs in order: an interrupted experiment resumes after its last
 //! complete row, and a torn last line is dropped.
+//!
+//! Reading checks that the log agrees with itself: the header's `config_hash` is its configuration's,
+//! `runs` is the number of its shard's runs, and every row is the run its id names (object count,
+//! scene seed, policy label, repetition, run seed, swept values) and carried no more objects than its
+//! scene held.
 
 use std::io::Write as _;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::config::ExperimentConfig;
+use super::config::{ExperimentConfig, RunSpec};
 use crate::error::{Error, Result};
 
 /// Identifies the log format.
@@ -123,7 +128,11 @@ pub struct Log {
 
 /// A fingerprint of a configuration: FNV-1a over its canonical JSON.
 pub fn config_hash(config: &ExperimentConfig) -> String {
-    let text = serde_json::to_string(config).unwrap_or_default();
+    text_hash(&serde_json::to_string(config).unwrap_or_default())
+}
+
+/// The FNV-1a hash of a configuration's compact JSON text, as 16 hex digits.
+fn text_hash(text: &str) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     for byte in text.bytes() {
         hash ^= u64::from(byte);
@@ -201,6 +210,8 @@ pub struct LogReader {
     /// Rows read so far.
     read: usize,
     done: bool,
+    /// The runs of the header's shard, in order.
+    runs: Vec<RunSpec>,
 }
 
 impl LogReader {
@@ -227,12 +238,21 @@ impl LogReader {
                 format!("not a pushmog log of format {LOG_FORMAT}"),
             ));
         }
+        // The hash is of the configuration as it was written (fields added since would change a
+        // fresh serialisation): the header's own `config` text, in its order.
+        let written = serde_json::from_str::<serde_json::Value>(&header_line)
+            .ok()
+            .and_then(|v| v.get("config").map(ToString::to_string))
+            .unwrap_or_default();
+        let runs = header_runs(&header, &text_hash(&written))
+            .map_err(|reason| Error::field(&name, "header", reason))?;
         Ok(Self {
             header,
             reader,
             name,
             read: 0,
             done: false,
+            runs,
         })
     }
 
@@ -262,9 +282,91 @@ impl LogReader {
                 ),
             ));
         }
+        if let Err(reason) = self
+            .runs
+            .get(self.read)
+            .ok_or_else(|| {
+                format!(
+                    "run {} is not one of the header's {} runs",
+                    row.id,
+                    self.runs.len()
+                )
+            })
+            .and_then(|spec| row_agrees(&row, spec, &self.header.config))
+        {
+            return Err(Error::field(
+                &self.name,
+                format!("line {number}"),
+                format!("{reason}: the log is damaged or was edited"),
+            ));
+        }
         self.read += 1;
         Ok(Some(row))
     }
+}
+
+/// The runs of a header's shard, once the header agrees with itself.
+fn header_runs(header: &LogHeader, expected: &str) -> std::result::Result<Vec<RunSpec>, String> {
+    if header.config_hash != expected {
+        return Err(format!(
+            "config_hash {} is not its configuration's ({expected}): the header was edited",
+            header.config_hash
+        ));
+    }
+    header
+        .config
+        .validate()
+        .map_err(|e| format!("its configuration is invalid: {e}"))?;
+    let [shard, shards] = header.shard;
+    if shards == 0 || shard >= shards {
+        return Err(format!("shard {shard} of {shards} does not exist"));
+    }
+    let runs: Vec<RunSpec> = header
+        .config
+        .runs()
+        .into_iter()
+        .filter(|r| r.id % shards == shard)
+        .collect();
+    if header.runs != runs.len() {
+        return Err(format!(
+            "runs is {}, but its configuration has {} runs in shard {shard} of {shards}",
+            header.runs,
+            runs.len()
+        ));
+    }
+    Ok(runs)
+}
+
+/// Whether a row is the run `spec` of `config` and its counts are possible.
+fn row_agrees(
+    row: &LogRow,
+    spec: &RunSpec,
+    config: &ExperimentConfig,
+) -> std::result::Result<(), String> {
+    let label = config.policies[spec.policy].label();
+    let same = row.objects == spec.objects
+        && row.scene_seed == spec.scene_seed
+        && row.policy == label
+        && row.repetition == spec.repetition
+        && row.run_seed == spec.run_seed
+        && spec
+            .bin_distance
+            .is_none_or(|d| d.to_bits() == row.bin_distance.to_bits())
+        && row.friction.map(f64::to_bits) == spec.friction.map(f64::to_bits);
+    if !same {
+        return Err(format!(
+            "run {} is not the configuration's run {} ({} objects, scene seed {}, policy {label}, \
+             repetition {})",
+            row.id, spec.id, spec.objects, spec.scene_seed, spec.repetition
+        ));
+    }
+    if row.carried > row.objects || row.remaining > row.objects {
+        return Err(format!(
+            "run {} carried {} and left {} of {} objects",
+            row.id, row.carried, row.remaining, row.objects
+        ));
+    }
+    Ok(())
 }
 
 impl Iterator for LogReader {
