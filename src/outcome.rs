@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 /// How good an answer is, in the planner's own terms.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// A heuristic answer: valid, with no optimality claim.

@@ -559,6 +559,7 @@ fn the_verifier_names_every_pair_of_interleaved_clusters_and_only_those() {
     let ids = |k: &[u32]| k.iter().map(|&i| ObjectId(i)).collect::<Vec<_>>();
     let clustering = pushmog::cluster::Clustering {
         clusters: vec![ids(&[0, 1]), ids(&[2, 3]), ids(&[4, 5]), ids(&[6])],
+        status: None,
     };
     let found = verify_clustering(&scene, &clustering);
     let separability: Vec<&String> = found.iter().filter(|f| f.contains("separable")).collect();

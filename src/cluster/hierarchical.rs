@@ -160,6 +160,7 @@ impl Clusterer for Hierarchical {
                 .into_iter()
                 .map(|c| c.into_iter().map(|i| scene.objects()[i].id).collect())
                 .collect(),
+            status: None,
         }
         .normalised();
         let stats = Stats {

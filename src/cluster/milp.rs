@@ -693,10 +693,18 @@ impl Clusterer for Milp {
         };
         let usable = is_partition && separability_conflicts(scene, &picked).is_empty();
         let solver_cost = costs_model.clustering_cost(&picked);
-        let (clusters, objective, fell_back) = if usable && solver_cost <= heuristic_cost + 1e-9 {
-            (picked, solver_cost, parts_fell_back > 0)
-        } else {
+        let whole_fallback = !(usable && solver_cost <= heuristic_cost + 1e-9);
+        let (clusters, objective, fell_back) = if whole_fallback {
             (heuristic_clusters, heuristic_cost, true)
+        } else {
+            (picked, solver_cost, parts_fell_back > 0)
+        };
+        // The heuristic's clustering carries no claim: an optimum the solver proved but that could
+        // not be used (not a partition, or clusters not separable) does not make it optimal.
+        let status = if whole_fallback && solved.status == Status::Optimal {
+            Status::Heuristic
+        } else {
+            solved.status.clone()
         };
         let proven = settings.objective == ClusterObjective::Time
             && solved.status == Status::Optimal
@@ -708,6 +716,7 @@ impl Clusterer for Milp {
                 .iter()
                 .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
                 .collect(),
+            status: None,
         }
         .normalised();
         let mut counters = vec![
@@ -731,7 +740,7 @@ impl Clusterer for Milp {
         }
         Ok(Outcome {
             value: clustering,
-            status: solved.status,
+            status,
             stats: Stats {
                 seconds: started.elapsed().as_secs_f64(),
                 objective: Some(objective),

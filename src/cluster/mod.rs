@@ -39,6 +39,11 @@ pub use split::{SplitSettings, split_until_valid};
 pub struct Clustering {
     /// The clusters; every object of the scene is in exactly one.
     pub clusters: Vec<Vec<ObjectId>>,
+    /// In a plan or run record: how good the clustering is, as its clusterer said (`optimal` only
+    /// when the MILP proved it; the hierarchical heuristic's is `heuristic`). A clusterer's own
+    /// answer leaves this empty and gives its status in the outcome.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub status: Option<crate::outcome::Status>,
 }
 
 impl Clustering {

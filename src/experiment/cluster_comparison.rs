@@ -112,6 +112,7 @@ pub fn compare_clustering(
                 .iter()
                 .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
                 .collect(),
+            status: None,
         };
         let t = by_time.cluster(&scene)?;
         let f = by_count.cluster(&scene)?;

@@ -103,6 +103,10 @@ pub struct LogRow {
     pub landings: usize,
     /// Planning attempts that found no grasp.
     pub failed_attempts: usize,
+    /// Trips whose clustering was not proven optimal (`Plan::unproven_clusterings`); absent for
+    /// policies that do not cluster and in logs written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unproven_clusterings: Option<usize>,
     /// Whether the table was cleared.
     pub cleared: bool,
     /// Objects left, and why, when not cleared.

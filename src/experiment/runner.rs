@@ -88,6 +88,7 @@ pub fn run_one(
         failed_grasps: plan.failed_grasps(),
         landings: plan.landings(),
         failed_attempts: plan.failed_attempts.len(),
+        unproven_clusterings: plan.unproven_clusterings(),
         cleared,
         stop_reason,
         remaining,

@@ -227,6 +227,18 @@ impl Plan {
         }
     }
 
+    /// Trips whose clustering was not proven optimal by its clusterer (`clustering.status` other
+    /// than `optimal`), or `None` when no trip records a clustering status (policies that do not
+    /// cluster, or plans written before statuses were recorded).
+    pub fn unproven_clusterings(&self) -> Option<usize> {
+        let statuses: Vec<&Status> = self
+            .trips
+            .iter()
+            .filter_map(|t| t.clustering.status.as_ref())
+            .collect();
+        (!statuses.is_empty()).then(|| statuses.iter().filter(|&&s| *s != Status::Optimal).count())
+    }
+
     /// Fork pushes made over all trips.
     pub fn push_count(&self) -> usize {
         self.trips.iter().map(|t| t.pushes.len()).sum()

@@ -264,8 +264,13 @@ impl Policy {
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, String>> {
         let started = Instant::now();
-        let clustering = clusterer.cluster(observed)?.value;
+        let clustered = clusterer.cluster(observed)?;
         *clustering_seconds = Some(started.elapsed().as_secs_f64());
+        // The status goes with the clustering into the trip and the record.
+        let clustering = Clustering {
+            status: Some(clustered.status),
+            ..clustered.value
+        };
         let candidates: Vec<usize> = (0..clustering.len())
             .filter(|&k| {
                 clustering.clusters[k]

@@ -264,6 +264,13 @@ pub(crate) fn summary(plan: &Plan, objects: usize) -> String {
         "failed attempts   {}\n",
         plan.failed_attempts.len()
     ));
+    if let Some(unproven) = plan.unproven_clusterings() {
+        out.push_str(&format!(
+            "clusterings       {} of {} trips proven optimal\n",
+            plan.trips.len() - unproven,
+            plan.trips.len()
+        ));
+    }
     // Trips counted from 1, as in the replay.
     for (k, trip) in plan.trips.iter().enumerate() {
         for lost in &trip.lost {
