@@ -116,6 +116,14 @@ class TripPlan:
         return [list(c) for c in self._trip["clustering"]["clusters"]]
 
     @property
+    def clustering_status(self) -> Optional[str]:
+        """How good the clustering is, as its clusterer said: ``"optimal"`` only when the MILP
+        proved it, ``"heuristic"`` for the paper's hierarchical clustering; ``None`` without
+        clustering."""
+        status = self._trip["clustering"].get("status")
+        return status if status is None or isinstance(status, str) else next(iter(status))
+
+    @property
     def cluster(self) -> Optional[int]:
         """Position in ``clusters`` of the cluster this trip works on."""
         return self._trip["cluster"]

@@ -242,3 +242,13 @@ def test_parallel_planning_gives_the_serial_answers():
     with ThreadPoolExecutor(max_workers=2) as pool:
         parallel = list(pool.map(lambda s: planner.run(s, seed=1).to_dict(), scenes))
     assert parallel == serial
+
+
+def test_a_trip_says_whether_its_clustering_was_proven_optimal():
+    """The MILP's proof reaches the trip; the paper's hierarchical clustering makes no claim."""
+    scene = pushmog.generate_scene(12, seed=7)
+    statuses = {
+        policy: pushmog.Planner(policy).plan_trip(scene, pushmog.TripContext(0)).clustering_status
+        for policy in ("sog", "push-mog", "push-mog-opt")
+    }
+    assert statuses == {"sog": None, "push-mog": "heuristic", "push-mog-opt": "optimal"}
