@@ -37,9 +37,9 @@ pub const MIN_HEIGHT: f64 = 0.001;
 /// (both manufacturers' data sheets); nothing heavier is a tabletop pick.
 pub const MAX_MASS: f64 = 50.0;
 
-/// Lightest object accepted, kilograms (1 g, a paper clip). Much lighter bodies make the simulator's
-/// contact solve stiff and are not what the grasp model was built for.
-pub const MIN_MASS: f64 = 0.001;
+/// Lightest object accepted, kilograms (0.1 g; a paper clip weighs about 1 g). Lighter values are
+/// almost always a unit slip (grams given as kilograms the other way round would be far heavier).
+pub const MIN_MASS: f64 = 0.0001;
 
 /// Largest yaw magnitude accepted, radians (16 turns). Any orientation is within ±π; larger values
 /// are usually degrees, and far larger ones cannot be reduced to an angle accurately (at 1e17 rad
