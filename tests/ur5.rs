@@ -618,12 +618,25 @@ fn the_urscript_of_the_fixture_plan_matches_the_reviewed_golden_file() {
     );
 }
 
-#[test]
-fn bad_robot_configurations_name_the_field() {
+/// Each `(from, to, named)`: the example robot file with `from` replaced by `to` is refused, and the
+/// error names `named`.
+fn each_edit_is_refused_naming(cases: &[(&str, &str, &str)]) {
     let example = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
     )
     .unwrap();
+    for &(from, to, named) in cases {
+        assert!(example.contains(from), "{from}");
+        let text = example.replacen(from, to, 1);
+        let error = RobotConfig::from_toml(&text, "cell.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(named), "{to}: {error}");
+    }
+}
+
+#[test]
+fn bad_robot_configurations_name_the_field() {
     let cases = [
         ("speed = 128", "speed = 999", "speed = 999"), // the parser quotes the line
         ("max_speed = 0.30", "max_speed = -1.0", "safety.max_speed"),
@@ -639,23 +652,12 @@ fn bad_robot_configurations_name_the_field() {
             "safety",
         ),
     ];
-    for (from, to, named) in cases {
-        assert!(example.contains(from), "{from}");
-        let text = example.replacen(from, to, 1);
-        let error = RobotConfig::from_toml(&text, "cell.toml")
-            .unwrap_err()
-            .to_string();
-        assert!(error.contains(named), "{to}: {error}");
-    }
+    each_edit_is_refused_naming(&cases);
 }
 
 /// Issue 38, defect 4: values the UR5 and the 2F-85 cannot take, each refused naming its field.
 #[test]
 fn robot_files_outside_the_arms_and_grippers_ranges_are_refused() {
-    let example = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
-    )
-    .unwrap();
     let cases = [
         ("travel = 0.25", "travel = 1e-300", "speeds.travel"),
         ("push = 0.05", "push = 0.5", "speeds.push"), // above max_speed 0.30
@@ -695,14 +697,7 @@ fn robot_files_outside_the_arms_and_grippers_ranges_are_refused() {
             "bin.drop[2]",
         ),
     ];
-    for (from, to, named) in cases {
-        assert!(example.contains(from), "{from}");
-        let text = example.replacen(from, to, 1);
-        let error = RobotConfig::from_toml(&text, "cell.toml")
-            .unwrap_err()
-            .to_string();
-        assert!(error.contains(named), "{to}: {error}");
-    }
+    each_edit_is_refused_naming(&cases);
 }
 
 /// Issue 38, defect 5: a plan made for wider jaws or other plates than the robot's is refused by

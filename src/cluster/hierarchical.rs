@@ -155,14 +155,7 @@ impl Clusterer for Hierarchical {
             clusters.extend(parts);
         }
         let repairs = repair_separability(scene, &mut clusters, &self.settings.split);
-        let clustering = Clustering {
-            clusters: clusters
-                .into_iter()
-                .map(|c| c.into_iter().map(|i| scene.objects()[i].id).collect())
-                .collect(),
-            status: None,
-        }
-        .normalised();
+        let clustering = Clustering::from_indices(scene, &clusters).normalised();
         let stats = Stats {
             seconds: started.elapsed().as_secs_f64(),
             counters: vec![

@@ -711,14 +711,7 @@ impl Clusterer for Milp {
             && !fell_back;
         self.last
             .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
-        let clustering = Clustering {
-            clusters: clusters
-                .iter()
-                .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
-                .collect(),
-            status: None,
-        }
-        .normalised();
+        let clustering = Clustering::from_indices(scene, &clusters).normalised();
         let mut counters = vec![
             ("candidates".to_string(), candidates.len() as f64),
             ("clash_rows".to_string(), clash_rows as f64),

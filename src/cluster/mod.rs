@@ -47,6 +47,17 @@ pub struct Clustering {
 }
 
 impl Clustering {
+    /// The clustering of `clusters` given as scene indices, by object id, with no status.
+    pub fn from_indices(scene: &Scene, clusters: &[Vec<usize>]) -> Self {
+        Self {
+            clusters: clusters
+                .iter()
+                .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
+                .collect(),
+            status: None,
+        }
+    }
+
     /// The number of clusters.
     pub fn len(&self) -> usize {
         self.clusters.len()

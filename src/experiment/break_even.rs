@@ -173,7 +173,8 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
             let colour = COLOURS[(k + 1) % COLOURS.len()];
             let mut points = points.clone();
             points.sort_by(|a, b| a.distance.total_cmp(&b.distance));
-            let label = match break_even(&points) {
+            let meets = break_even(&points);
+            let label = match meets {
                 BreakEven::Throughout => format!("{policy} (≥ sog throughout)"),
                 BreakEven::At(d) => format!("{policy} (break-even {d:.2} m)"),
                 BreakEven::NotWithin => format!("{policy} (below sog at the far end)"),
@@ -200,7 +201,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
                     )
                 }))
                 .map_err(plot_error)?;
-            if let BreakEven::At(d) = break_even(&points) {
+            if let BreakEven::At(d) = meets {
                 chart
                     .draw_series(std::iter::once(TriangleMarker::new(
                         (d, 1.0),

@@ -107,13 +107,7 @@ pub fn compare_clustering(
         let raw_seconds = cost.clustering_cost(&raw);
         let raw_trips = raw.len();
         let taken = split_unrowable(&scene, raw, row_limit, ROW_GAP);
-        let taken_clustering = Clustering {
-            clusters: taken
-                .iter()
-                .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
-                .collect(),
-            status: None,
-        };
+        let taken_clustering = Clustering::from_indices(&scene, &taken);
         let t = by_time.cluster(&scene)?;
         let f = by_count.cluster(&scene)?;
         let mut violations = Vec::new();

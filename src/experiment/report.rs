@@ -40,12 +40,14 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
     let config = &log.header.config;
     let by_distance = config.sweep.bin_distance.len() > 1;
     let mut markdown = results_markdown(log);
-    if by_distance {
-        let lines = break_even_markdown(log);
-        if !lines.is_empty() {
-            markdown.push('\n');
-            markdown.push_str(&lines);
-        }
+    let break_even_lines = if by_distance {
+        break_even_markdown(log)
+    } else {
+        String::new()
+    };
+    if !break_even_lines.is_empty() {
+        markdown.push('\n');
+        markdown.push_str(&break_even_lines);
     }
     put(tables.join(format!("{name}.md")), markdown)?;
     put(tables.join(format!("{name}.csv")), results_csv(log))?;
@@ -64,7 +66,7 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
             figures.join(format!("{name}-picks-per-hour.svg")),
             picks_per_hour_svg(log)?,
         )?;
-        if !break_even_markdown(log).is_empty() {
+        if !break_even_lines.is_empty() {
             put(
                 figures.join(format!("{name}-ratio-to-sog.svg")),
                 ratio_to_sog_svg(log)?,
