@@ -162,6 +162,44 @@ pub fn to_json<T: Serialize>(value: &T) -> String {
     out
 }
 
+/// As [`to_json`], for a document with one long list: `head` is the document with the list at `key`
+/// left empty, and `items` are its elements, each serialised and written in turn, so that the list
+/// is never held whole as a JSON tree. The text is the one [`to_json`] writes for the whole
+/// document, provided each item serialises to a JSON object (a list of objects is written one item
+/// per line).
+pub fn to_json_listing<T: Serialize, I: Serialize>(
+    head: &T,
+    key: &str,
+    items: impl ExactSizeIterator<Item = I>,
+) -> String {
+    let value = serde_json::to_value(head).unwrap_or(Value::Null);
+    let Value::Object(map) = &value else {
+        return to_json(head);
+    };
+    let pad = |n: usize| "  ".repeat(n);
+    let count = items.len();
+    let mut items = Some(items);
+    let mut out = String::from("{\n");
+    for (k, (name, item)) in map.iter().enumerate() {
+        let _ = write!(out, "{}{}: ", pad(1), Value::String(name.clone()));
+        if let Some(items) = items.take_if(|_| name == key && count > 0) {
+            out.push_str("[\n");
+            for (n, element) in items.enumerate() {
+                let element = serde_json::to_value(element).unwrap_or(Value::Null);
+                out.push_str(&pad(2));
+                write_value(&mut out, &element, 2);
+                out.push_str(if n + 1 < count { ",\n" } else { "\n" });
+            }
+            let _ = write!(out, "{}]", pad(1));
+        } else {
+            write_value(&mut out, item, 1);
+        }
+        out.push_str(if k + 1 < map.len() { ",\n" } else { "\n" });
+    }
+    out.push_str("}\n");
+    out
+}
+
 /// Whether a value is written on one line: arrays of scalars or of scalar arrays, and small objects of
 /// scalars (a pose, a gripper).
 fn is_flat(value: &Value) -> bool {

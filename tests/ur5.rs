@@ -155,7 +155,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
     let mut jaws_left_out = 0;
     for plan in [fixture_plan(), run] {
         for (t, trip) in plan.trips.iter().enumerate() {
-            let scene = pushmog::scene::Scene::new(trip.scene.clone()).unwrap();
+            let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();
             let steps = translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1);
             let charged = model.trip_commands(
@@ -452,7 +452,7 @@ fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
         .trips
         .iter()
         .flat_map(|t| std::iter::once(&t.scene).chain(t.looks.iter().map(|l| &l.scene)))
-        .cloned()
+        .map(|scene| scene.to_spec())
         .collect();
     let mut empty = scene.to_spec();
     empty.objects.clear();
@@ -495,7 +495,7 @@ fn the_closed_loop_replans_on_each_observation() {
     // The executor's own record agrees with the run.
     assert_eq!(robot.trips().len(), run.trips.len());
     for (done, trip) in robot.trips().iter().zip(&run.trips) {
-        assert_eq!(done.scene, trip.scene);
+        assert_eq!(done.scene, trip.scene.to_spec());
         assert_eq!(done.pushes, trip.pushes);
         assert_eq!(done.grasp.as_ref(), Some(&trip.grasp));
         assert_eq!(done.carried, trip.carried);

@@ -260,7 +260,7 @@ pub fn run_experiment(
                             if row.id == 0
                                 && let Some(path) = &options.example_plan
                             {
-                                crate::json::write_text(path, &crate::json::to_json(&plan))?;
+                                crate::json::write_text(path, &plan.to_json())?;
                             }
                         }
                     }

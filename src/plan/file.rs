@@ -14,11 +14,13 @@
 //! forms, so plans written before this format still read; reading then writing gives the same scenes
 //! exactly (numbers are not re-derived).
 
-use std::collections::HashMap;
+use std::sync::Arc;
 
 use schemars::JsonSchema;
+use serde::de::{Error as _, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use super::shared::{Lookup, SharedScene};
 use super::{Fault, Look, LostObject, Trip};
 use crate::cluster::Clustering;
 use crate::grasp::Grasp;
@@ -95,7 +97,7 @@ pub struct LookRecord {
     pub scene_change: Vec<ObjectChange>,
 }
 
-fn change(previous: &SceneSpec, scene: &SceneSpec) -> Option<Vec<ObjectChange>> {
+fn change(previous: &SharedScene, scene: &SharedScene) -> Option<Vec<ObjectChange>> {
     if previous.workspace != scene.workspace || previous.gripper != scene.gripper {
         return None;
     }
@@ -103,157 +105,192 @@ fn change(previous: &SceneSpec, scene: &SceneSpec) -> Option<Vec<ObjectChange>> 
 }
 
 /// The objects of `scene`, each as a change from `previous`.
-fn object_changes(previous: &SceneSpec, scene: &SceneSpec) -> Vec<ObjectChange> {
-    let before: HashMap<ObjectId, &ObjectSpec> =
-        previous.objects.iter().map(|o| (o.id, o)).collect();
+fn object_changes(previous: &SharedScene, scene: &SharedScene) -> Vec<ObjectChange> {
+    let mut before = Lookup::new(&previous.objects);
     scene
         .objects
         .iter()
-        .map(|object| match before.get(&object.id) {
-            Some(&old) if old == object => ObjectChange::Kept(object.id),
-            Some(&old)
+        .map(|object| match before.find(object.id) {
+            Some(old) if Arc::ptr_eq(old, object) || **old == **object => {
+                ObjectChange::Kept(object.id)
+            }
+            Some(old)
                 if ObjectSpec {
                     pose: object.pose,
-                    ..old.clone()
-                } == *object =>
+                    ..ObjectSpec::clone(old)
+                } == **object =>
             {
                 ObjectChange::Moved(Moved {
                     id: object.id,
                     pose: object.pose,
                 })
             }
-            _ => ObjectChange::Whole(object.clone()),
+            _ => ObjectChange::Whole(ObjectSpec::clone(object)),
         })
         .collect()
 }
 
 fn apply(
-    previous: &SceneSpec,
+    previous: &SharedScene,
     changes: Vec<ObjectChange>,
     trip: usize,
-) -> std::result::Result<SceneSpec, String> {
-    let before: HashMap<ObjectId, &ObjectSpec> =
-        previous.objects.iter().map(|o| (o.id, o)).collect();
-    let earlier = |id: ObjectId| {
-        before.get(&id).copied().ok_or_else(|| {
+) -> std::result::Result<SharedScene, String> {
+    let mut before = Lookup::new(&previous.objects);
+    let mut earlier = |id: ObjectId| {
+        before.find(id).ok_or_else(|| {
             format!(
                 "trip {trip}: `scene_change` names object {id}, which the scene it changes does \
                  not hold"
             )
         })
     };
-    let objects = changes
-        .into_iter()
-        .map(|change| match change {
-            ObjectChange::Kept(id) => earlier(id).cloned(),
-            ObjectChange::Moved(Moved { id, pose }) => Ok(ObjectSpec {
+    // A new vector, not one collected in place from `changes`, whose larger buffer it would keep.
+    let mut objects = Vec::with_capacity(changes.len());
+    for change in changes {
+        objects.push(match change {
+            ObjectChange::Kept(id) => Arc::clone(earlier(id)?),
+            ObjectChange::Moved(Moved { id, pose }) => Arc::new(ObjectSpec {
                 pose,
-                ..earlier(id)?.clone()
+                ..ObjectSpec::clone(earlier(id)?)
             }),
-            ObjectChange::Whole(object) => Ok(object),
-        })
-        .collect::<std::result::Result<_, String>>()?;
-    Ok(SceneSpec {
+            ObjectChange::Whole(object) => Arc::new(object),
+        });
+    }
+    Ok(SharedScene {
         workspace: previous.workspace.clone(),
         gripper: previous.gripper.clone(),
         objects,
     })
 }
 
-/// Writes `trips` in the compact form (`#[serde(serialize_with)]` of [`super::Plan::trips`]).
+/// Trip `k` of `trips` in its written form.
+fn record(trips: &[Trip], k: usize) -> TripRecord {
+    let trip = &trips[k];
+    let scene_change = k
+        .checked_sub(1)
+        .and_then(|p| change(&trips[p].scene, &trip.scene));
+    TripRecord {
+        scene: scene_change.is_none().then(|| trip.scene.to_spec()),
+        scene_change,
+        clustering: trip.clustering.clone(),
+        cluster: trip.cluster,
+        pushes: trip.pushes.clone(),
+        skipped_pushes: trip.skipped_pushes.clone(),
+        looks: trip
+            .looks
+            .iter()
+            .map(|look| LookRecord {
+                after_pushes: look.after_pushes,
+                scene_change: object_changes(&trip.scene, &look.scene),
+            })
+            .collect(),
+        grasp: trip.grasp.clone(),
+        judged: trip.judged,
+        ahead: trip.ahead.clone(),
+        carried: trip.carried.clone(),
+        fault: trip.fault,
+        lost: trip.lost.clone(),
+    }
+}
+
+impl super::Plan {
+    /// The plan as indented JSON, as [`crate::json::to_json`] writes it, with the trips written one
+    /// at a time so that a long plan is never held whole as a JSON tree.
+    pub fn to_json(&self) -> String {
+        let head = super::Plan {
+            policy: self.policy.clone(),
+            executor: self.executor.clone(),
+            seed: self.seed,
+            settings: self.settings.clone(),
+            trips: Vec::new(),
+            failed_attempts: self.failed_attempts.clone(),
+            status: self.status.clone(),
+            seconds: self.seconds,
+        };
+        let trips = &self.trips;
+        crate::json::to_json_listing(&head, "trips", (0..trips.len()).map(|k| record(trips, k)))
+    }
+}
+
+/// Writes `trips` in the compact form (`#[serde(serialize_with)]` of [`super::Plan::trips`]), one
+/// record at a time.
 ///
 /// # Errors
 /// The serializer's.
 pub fn serialize<S: Serializer>(trips: &[Trip], serializer: S) -> Result<S::Ok, S::Error> {
-    let records: Vec<TripRecord> = trips
-        .iter()
-        .enumerate()
-        .map(|(k, trip)| {
-            let scene_change = k
-                .checked_sub(1)
-                .and_then(|p| change(&trips[p].scene, &trip.scene));
-            TripRecord {
-                scene: scene_change.is_none().then(|| trip.scene.clone()),
-                scene_change,
-                clustering: trip.clustering.clone(),
-                cluster: trip.cluster,
-                pushes: trip.pushes.clone(),
-                skipped_pushes: trip.skipped_pushes.clone(),
-                looks: trip
-                    .looks
-                    .iter()
-                    .map(|look| LookRecord {
-                        after_pushes: look.after_pushes,
-                        scene_change: object_changes(&trip.scene, &look.scene),
-                    })
-                    .collect(),
-                grasp: trip.grasp.clone(),
-                judged: trip.judged,
-                ahead: trip.ahead.clone(),
-                carried: trip.carried.clone(),
-                fault: trip.fault,
-                lost: trip.lost.clone(),
-            }
-        })
-        .collect();
-    records.serialize(serializer)
+    serializer.collect_seq((0..trips.len()).map(|k| record(trips, k)))
 }
 
-/// Reads trips in either form (`#[serde(deserialize_with)]` of [`super::Plan::trips`]).
+/// The trip a record describes, after `previous`.
+fn trip(
+    k: usize,
+    record: TripRecord,
+    previous: Option<&Trip>,
+) -> std::result::Result<Trip, String> {
+    let scene = match (record.scene, record.scene_change, previous) {
+        (Some(scene), None, previous) => SharedScene::sharing(scene, previous.map(|p| &p.scene)),
+        (None, Some(changes), Some(previous)) => apply(&previous.scene, changes, k)?,
+        (None, Some(_), None) => {
+            return Err(
+                "trip 0: the first trip needs its `scene` in full, not a `scene_change`".into(),
+            );
+        }
+        (Some(_), Some(_), _) => {
+            return Err(format!(
+                "trip {k}: give `scene` or `scene_change`, not both"
+            ));
+        }
+        (None, None, _) => return Err(format!("trip {k}: needs `scene` or `scene_change`")),
+    };
+    let looks = record
+        .looks
+        .into_iter()
+        .map(|look| {
+            Ok(Look {
+                after_pushes: look.after_pushes,
+                scene: apply(&scene, look.scene_change, k)?,
+            })
+        })
+        .collect::<std::result::Result<Vec<Look>, String>>()?;
+    Ok(Trip {
+        scene,
+        clustering: record.clustering,
+        cluster: record.cluster,
+        pushes: record.pushes,
+        skipped_pushes: record.skipped_pushes,
+        looks,
+        grasp: record.grasp,
+        judged: record.judged,
+        ahead: record.ahead,
+        carried: record.carried,
+        fault: record.fault,
+        lost: record.lost,
+    })
+}
+
+/// Reads trips in either form (`#[serde(deserialize_with)]` of [`super::Plan::trips`]), each
+/// record as it comes, so that a long plan is never held in its written form.
 ///
 /// # Errors
 /// A trip with neither or both of `scene` and `scene_change`, a first trip given as a change, or a
 /// change naming an object the previous scene does not hold.
 pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Trip>, D::Error> {
-    let records = Vec::<TripRecord>::deserialize(deserializer)?;
-    let mut trips: Vec<Trip> = Vec::with_capacity(records.len());
-    for (k, record) in records.into_iter().enumerate() {
-        let scene = match (record.scene, record.scene_change, trips.last()) {
-            (Some(scene), None, _) => scene,
-            (None, Some(changes), Some(previous)) => {
-                apply(&previous.scene, changes, k).map_err(serde::de::Error::custom)?
+    struct Trips;
+    impl<'de> Visitor<'de> for Trips {
+        type Value = Vec<Trip>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a list of trips")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<Trip>, A::Error> {
+            let mut trips: Vec<Trip> = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+            while let Some(record) = seq.next_element::<TripRecord>()? {
+                let next = trip(trips.len(), record, trips.last()).map_err(A::Error::custom)?;
+                trips.push(next);
             }
-            (None, Some(_), None) => {
-                return Err(serde::de::Error::custom(
-                    "trip 0: the first trip needs its `scene` in full, not a `scene_change`",
-                ));
-            }
-            (Some(_), Some(_), _) => {
-                return Err(serde::de::Error::custom(format!(
-                    "trip {k}: give `scene` or `scene_change`, not both"
-                )));
-            }
-            (None, None, _) => {
-                return Err(serde::de::Error::custom(format!(
-                    "trip {k}: needs `scene` or `scene_change`"
-                )));
-            }
-        };
-        let looks = record
-            .looks
-            .into_iter()
-            .map(|look| {
-                Ok(Look {
-                    after_pushes: look.after_pushes,
-                    scene: apply(&scene, look.scene_change, k)?,
-                })
-            })
-            .collect::<std::result::Result<Vec<Look>, String>>()
-            .map_err(serde::de::Error::custom)?;
-        trips.push(Trip {
-            scene,
-            clustering: record.clustering,
-            cluster: record.cluster,
-            pushes: record.pushes,
-            skipped_pushes: record.skipped_pushes,
-            looks,
-            grasp: record.grasp,
-            judged: record.judged,
-            ahead: record.ahead,
-            carried: record.carried,
-            fault: record.fault,
-            lost: record.lost,
-        });
+            Ok(trips)
+        }
     }
-    Ok(trips)
+    deserializer.deserialize_seq(Trips)
 }

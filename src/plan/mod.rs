@@ -7,10 +7,12 @@
 //!   [`verify`] checks a plan independently of the planners.
 
 mod file;
+mod shared;
 mod verify;
 
 pub use crate::outcome::{Outcome, Stats, Status};
 pub use file::{LookRecord, Moved, ObjectChange, TripRecord};
+pub use shared::SharedScene;
 pub use verify::{Violation, verify, verify_clustering, verify_record, verify_trip};
 
 use serde::{Deserialize, Serialize};
@@ -23,8 +25,10 @@ use crate::scene::{ObjectId, SceneSpec};
 /// One trip of a run: plan on an observation, push, grasp, carry to the bin.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Trip {
-    /// The observation this trip was planned on.
-    pub scene: SceneSpec,
+    /// The observation this trip was planned on (objects unchanged since the trip before are
+    /// shared with it).
+    #[schemars(with = "SceneSpec")]
+    pub scene: SharedScene,
     /// The clustering of that observation (empty for policies that do not cluster).
     pub clustering: Clustering,
     /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
@@ -79,13 +83,14 @@ pub struct Look {
     /// How many of the trip's pushes had been made.
     pub after_pushes: usize,
     /// The table as observed then (same workspace and gripper as the trip's scene).
-    pub scene: SceneSpec,
+    #[schemars(with = "SceneSpec")]
+    pub scene: SharedScene,
 }
 
 impl Trip {
     /// The scene on which the trip's pushes from `start` on were planned, and that start: the last
     /// look's, or the trip's own scene from push 0.
-    pub fn last_plan_scene(&self) -> (&SceneSpec, usize) {
+    pub fn last_plan_scene(&self) -> (&SharedScene, usize) {
         self.looks
             .last()
             .map_or((&self.scene, 0), |look| (&look.scene, look.after_pushes))

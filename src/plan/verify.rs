@@ -222,7 +222,7 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
 }
 
 /// Whether `scene` holds exactly these objects at these poses, in order.
-fn same_table(poses: &[(ObjectId, [f64; 3])], scene: &crate::scene::SceneSpec) -> bool {
+fn same_table(poses: &[(ObjectId, [f64; 3])], scene: &super::SharedScene) -> bool {
     poses.len() == scene.objects.len()
         && poses
             .iter()
@@ -237,7 +237,7 @@ fn pose_off(pose: crate::scene::Pose, expected: &[f64; 3]) -> f64 {
 
 /// Every violation in one trip.
 pub fn verify_trip(trip: &Trip) -> Vec<String> {
-    let scene = match Scene::new(trip.scene.clone()) {
+    let scene = match Scene::new(trip.scene.to_spec()) {
         Ok(scene) => scene,
         Err(e) => return vec![format!("the trip's scene is invalid: {e}")],
     };
@@ -267,18 +267,14 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
                 "look {n}: its workspace or gripper is not the trip's"
             ));
         }
-        if let Some(new) = look
-            .scene
-            .objects
-            .iter()
-            .find(|o| !trip.scene.objects.iter().any(|t| t.id == o.id))
-        {
+        let here: std::collections::BTreeSet<ObjectId> = trip.scene.ids().collect();
+        if let Some(new) = look.scene.objects.iter().find(|o| !here.contains(&o.id)) {
             found.push(format!(
                 "look {n}: object {} was not on the trip's table",
                 new.id
             ));
         }
-        match Scene::new(look.scene.clone()) {
+        match Scene::new(look.scene.to_spec()) {
             Ok(seen) => tables.push((seen, look.after_pushes)),
             Err(e) => {
                 found.push(format!("look {n}: its scene is invalid: {e}"));

@@ -14,7 +14,7 @@ use super::trip::{Landing, TripContext};
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;
-use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, StopReason, Trip};
+use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, SharedScene, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
 
 /// Wall-clock planning times of one run, seconds.
@@ -121,7 +121,7 @@ impl<'a> Run<'a> {
         };
         let run_settings = &self.policy.settings().run;
         let mut record = Trip {
-            scene: observed.to_spec(),
+            scene: SharedScene::sharing(observed.to_spec(), self.trips.last().map(|t| &t.scene)),
             clustering: trip.clustering.clone(),
             cluster: trip.cluster,
             pushes: trip.pushes.clone(),
@@ -177,7 +177,7 @@ impl<'a> Run<'a> {
             from = record.pushes.len();
             record.looks.push(Look {
                 after_pushes: from,
-                scene: after.to_spec(),
+                scene: SharedScene::sharing(after.to_spec(), Some(&record.scene)),
             });
             record.pushes.extend(next.pushes.iter().cloned());
             record.grasp = next.grasp.clone();
@@ -276,37 +276,47 @@ impl<'a> Run<'a> {
     /// The record so far: every trip made and every fruitless attempt, with the final status once
     /// the run has ended (until then, stopped as interrupted).
     pub fn record(&self) -> Plan {
-        let status = self.status.clone().unwrap_or_else(|| {
-            // Every object seen and not carried is still somewhere.
-            let mut remaining: Vec<ObjectId> = Vec::new();
-            for trip in &self.trips {
-                for object in &trip.scene.objects {
-                    if !remaining.contains(&object.id) {
-                        remaining.push(object.id);
-                    }
-                }
-            }
-            remaining.retain(|id| !self.trips.iter().any(|t| t.carried.contains(id)));
+        self.plan(self.trips.clone())
+    }
+
+    /// The status after `trips` (the run's own): the final one, or stopped as interrupted with
+    /// every object seen and not carried still somewhere.
+    fn status_after(&self, trips: &[Trip]) -> RunStatus {
+        self.status.clone().unwrap_or_else(|| {
+            let carried: std::collections::HashSet<ObjectId> = trips
+                .iter()
+                .flat_map(|t| t.carried.iter().copied())
+                .collect();
+            let mut seen = std::collections::HashSet::new();
+            let remaining = trips
+                .iter()
+                .flat_map(|trip| trip.scene.ids())
+                .filter(|id| !carried.contains(id) && seen.insert(*id))
+                .collect();
             RunStatus::Stopped {
                 remaining,
                 reason: StopReason::Interrupted,
             }
-        });
+        })
+    }
+
+    /// The record with these trips (the run's own).
+    fn plan(&self, trips: Vec<Trip>) -> Plan {
         let settings = self.policy.settings();
         Plan {
             seconds: run_seconds(
                 &settings.time_model,
                 &self.gripper,
-                &self.trips,
+                &trips,
                 self.failed_attempts.len(),
             ),
             policy: self.policy.kind().name().to_string(),
             executor: self.executor.to_string(),
             seed: self.seed,
             settings: serde_json::to_value(settings).unwrap_or_default(),
-            trips: self.trips.clone(),
+            status: self.status_after(&trips),
             failed_attempts: self.failed_attempts.clone(),
-            status,
+            trips,
         }
     }
 
@@ -316,9 +326,9 @@ impl<'a> Run<'a> {
     }
 
     /// The record and the planning times, ending the run.
-    pub fn finish(self) -> (Plan, RunTiming) {
-        let plan = self.record();
-        (plan, self.timing)
+    pub fn finish(mut self) -> (Plan, RunTiming) {
+        let trips = std::mem::take(&mut self.trips);
+        (self.plan(trips), self.timing)
     }
 }
 

@@ -31,7 +31,7 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
         .trips
         .first()
         .ok_or_else(|| Error::field("plan", "trips", "the plan has no trips to draw"))?;
-    let scene = Scene::new(first.scene.clone())?;
+    let scene = Scene::new(first.scene.to_spec())?;
     let mut fills: Vec<Option<String>> = vec![None; scene.len()];
     for (k, trip) in plan.trips.iter().enumerate() {
         for id in &trip.carried {
@@ -43,7 +43,7 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
     let mut figure = Figure::new(&scene, options);
     figure.objects(&fills);
     for (k, trip) in plan.trips.iter().enumerate() {
-        let table = Scene::new(trip.scene.clone())?;
+        let table = Scene::new(trip.scene.to_spec())?;
         draw_trip(figure.canvas(), trip, k, &table, 0..trip.pushes.len(), true);
     }
     figure.legend_entry("#202020", "jaw plates");
@@ -54,9 +54,9 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
 /// The tables a trip was planned on, each with the numbers of the pushes made from it: the trip's
 /// own scene, then every look during the trip. The grasp follows the last.
 fn stages(trip: &Trip) -> Result<Vec<(Scene, std::ops::Range<usize>)>> {
-    let mut tables = vec![(Scene::new(trip.scene.clone())?, 0)];
+    let mut tables = vec![(Scene::new(trip.scene.to_spec())?, 0)];
     for look in &trip.looks {
-        tables.push((Scene::new(look.scene.clone())?, look.after_pushes));
+        tables.push((Scene::new(look.scene.to_spec())?, look.after_pushes));
     }
     let ends: Vec<usize> = tables
         .iter()

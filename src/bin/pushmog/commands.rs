@@ -202,7 +202,7 @@ pub fn plan(args: &PlanArgs) -> Result<()> {
     let policy = policy(&args.policy, args.settings.as_deref())?;
     let mut executor = executor("ideal", &policy, None)?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
-    write_output(args.output.as_deref(), &to_json(&plan))?;
+    write_output(args.output.as_deref(), &plan.to_json())?;
     eprint!("{}", summary(&plan, scene.len()));
     Ok(())
 }
@@ -221,7 +221,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     )?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     if let Some(path) = &args.plan {
-        json::write_text(path, &to_json(&plan))?;
+        json::write_text(path, &plan.to_json())?;
     }
     if let Some(path) = &args.replay {
         json::write_text(path, &replay_html(&plan, &RenderOptions::default())?)?;
@@ -662,7 +662,7 @@ pub fn demo(out: &Path, seed: u64) -> Result<()> {
         if kind == PolicyKind::PushMog {
             let plan_path = out.join("plan.json");
             let plan_svg_path = out.join("plan.svg");
-            json::write_text(&plan_path, &to_json(&plan))?;
+            json::write_text(&plan_path, &plan.to_json())?;
             let title = format!("push-mog plan, seed {seed}");
             json::write_text(
                 &plan_svg_path,

@@ -119,7 +119,7 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
             let scene = plan
                 .trips
                 .first()
-                .map(|t| Scene::new(t.scene.clone()))
+                .map(|t| Scene::new(t.scene.to_spec()))
                 .transpose()?;
             let steps = plan_steps(&translator, &plan)?;
             // Refuse an unsafe plan before writing or connecting anything.
@@ -169,7 +169,7 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
                     &json::to_json(&robot.trips()),
                 )?;
                 if let Some(plan) = &plan {
-                    json::write_text(&args.out.join("run.json"), &json::to_json(plan))?;
+                    json::write_text(&args.out.join("run.json"), &plan.to_json())?;
                 }
                 stepped?;
                 if let Some(plan) = &plan {

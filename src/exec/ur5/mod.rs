@@ -247,7 +247,7 @@ pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Re
 pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
     let mut steps = Vec::new();
     for (t, trip) in plan.trips.iter().enumerate() {
-        let scene = Scene::new(trip.scene.clone())?;
+        let scene = Scene::new(trip.scene.to_spec())?;
         check_trip_fits(
             &translator.config().gripper,
             scene.gripper(),
