@@ -15,8 +15,8 @@
 //! trip's first. The grasp follows its six: travel above the grasp, jaws to the planned
 //! opening, descend, close onto the row, lift and travel to the bin, open fully. Travel is `bin_distance`
 //! from the bin to the first action, then the straight distance between successive actions inside the
-//! workspace. Every observation (each trip and each planning attempt that found nothing) costs
-//! `observation` seconds of perception and planning.
+//! workspace. Every observation (each trip, each planning attempt that found nothing, each look
+//! during a trip) costs `perception` plus `observation` seconds: the camera, then the planner.
 //!
 //! **The fit.** Public logs of a UR5 with a Robotiq 2F-85 and the bin adjacent
 //! (`experiments/data/`, 1,245 timed grasp-and-trip attempts) give a median execution of 12.2 s per
@@ -25,7 +25,8 @@
 //! per-command costs, not in travel. One figure fixes one parameter: the settle time, taken equal for
 //! arm and jaw commands, is set so the model's single-object trip (the arm's usual linear moves, the
 //! 2F-85's fastest jaws, an object of the library's median width) takes the logs' median. The
-//! observation time is the logs' median planning time. `experiments/README.md` sets the model's figures
+//! observation time is the logs' median planning time; those logs do not time perception, which is
+//! a cell parameter of its own (`perception`, 0 unless set). `experiments/README.md` sets the model's figures
 //! beside the logs' (12.2 s per trip, 212 picks per hour for single-object picking).
 
 use nalgebra::Point2;
@@ -66,9 +67,14 @@ pub struct TimeModel {
     /// Fixed time of every jaw command beyond its motion (the gripper's command round trip and its
     /// settling), seconds. Default: the fitted settle time, as `arm_settle`.
     pub gripper_settle: f64,
-    /// Perception and planning per observation of the table, seconds. Default 1.715: the median planning
-    /// time per attempt in the real cell's logs.
+    /// Planning per observation of the table, seconds. Default 1.715: the median planning time per
+    /// attempt in the real cell's logs, timed from the arrival of the object state to the publication
+    /// of the grasp (so it holds the planner's compute, not the camera's).
     pub observation: f64,
+    /// Perception per observation, seconds: taking the camera's frame and turning it into a scene,
+    /// charged with `observation`. Default 0: no public log of the real cell times its perception,
+    /// which ran apart from the timed planner. Set it for the camera of your cell.
+    pub perception: f64,
 }
 
 /// The fitted settle time per command, seconds (`fit_settle` on the real cell's logs; the test
@@ -90,6 +96,7 @@ impl Default for TimeModel {
             arm_settle: FITTED_SETTLE,
             gripper_settle: FITTED_SETTLE,
             observation: FITTED_OBSERVATION,
+            perception: 0.0,
         }
     }
 }
@@ -145,7 +152,7 @@ impl TimeModel {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let checks: [(&str, f64, (f64, f64), &str); 9] = [
+        let checks: [(&str, f64, (f64, f64), &str); 10] = [
             (
                 "travel_speed",
                 self.travel_speed,
@@ -188,13 +195,24 @@ impl TimeModel {
                 "observation",
                 self.observation,
                 (0.0, 600.0),
-                "s of perception and planning",
+                "s of planning per observation",
+            ),
+            (
+                "perception",
+                self.perception,
+                (0.0, 600.0),
+                "s of perception per observation",
             ),
         ];
         for (field, value, range, why) in checks {
             crate::error::in_range("time_model", field, value, range, why)?;
         }
         Ok(())
+    }
+
+    /// Seconds of one observation of the table: perception, then planning on what it saw.
+    pub fn look_seconds(&self) -> f64 {
+        self.perception + self.observation
     }
 
     /// Seconds of the motion of a straight arm move of `distance` metres (no settle time).

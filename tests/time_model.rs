@@ -150,3 +150,25 @@ fn time_model_reproduces_picks_per_hour() {
         assert!((modelled - published).abs() < 0.1 * published);
     }
 }
+
+/// Perception is a cell parameter apart from planning: each observation of a run (every trip, every
+/// fruitless planning attempt, every look during a trip) costs it once more, and nothing else changes.
+#[test]
+fn perception_is_charged_once_per_observation() {
+    use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+    use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let run = |perception: f64| {
+        let mut settings = PolicySettings::default();
+        settings.time_model.perception = perception;
+        let policy = Policy::new(PolicyKind::PushMog, settings).unwrap();
+        policy.run(&scene, &mut policy.ideal(), 3).unwrap()
+    };
+    let (without, with) = (run(0.0), run(0.5));
+    assert!(with.trips == without.trips);
+    let looks: usize = without.trips.iter().map(|t| t.looks.len()).sum();
+    assert!(looks > 0);
+    let observations = without.trips.len() + without.failed_attempts.len() + looks;
+    let extra = with.seconds - without.seconds;
+    assert!((extra - 0.5 * observations as f64).abs() < 1e-6, "{extra}");
+}

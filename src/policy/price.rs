@@ -152,12 +152,12 @@ impl Pricing {
     ) -> f64 {
         let paths = push_paths(pushes);
         let jaws = grasp_path(ahead.unwrap_or(grasp), gripper);
-        let look = if look { model.observation } else { 0.0 };
+        let look = if look { model.look_seconds() } else { 0.0 };
         let pushing =
             model.trip_seconds(gripper, &paths, &jaws) - model.trip_seconds(gripper, &[], &jaws);
         let mean = pushes.iter().map(|p| p.distance).sum::<f64>() / pushes.len().max(1) as f64;
         let correcting = model.nominal_later_push_seconds(mean) + look;
-        let single = model.nominal_trip_seconds(gripper) + model.observation;
+        let single = model.nominal_trip_seconds(gripper) + model.look_seconds();
         let gained = grasp.objects.len().saturating_sub(taken) as f64;
         self.carried_all(judged, ahead.is_some()) * gained * single
             - (pushing + look)

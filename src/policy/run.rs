@@ -344,5 +344,5 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
         })
         .sum();
     let looks: usize = trips.iter().map(|trip| trip.looks.len()).sum();
-    trips_seconds + model.observation * (trips.len() + failed + looks) as f64
+    trips_seconds + model.look_seconds() * (trips.len() + failed + looks) as f64
 }
