@@ -430,3 +430,55 @@ fn run_in_the_simulator_with_a_replay() {
     assert!(html.starts_with("<!DOCTYPE html>"));
     assert!(html.contains("<svg") && html.contains("trip 1 of"));
 }
+
+/// `cluster --policy-settings` clusters as a policy with those settings does: the MILP gets the
+/// policy's time model (here a bin 2 m away), and its objective is the library's for the policy's
+/// effective MILP settings. With `--settings` as well it is a usage error.
+#[test]
+fn cluster_takes_the_policys_shared_settings() {
+    use pushmog::cluster::{Clusterer, Milp};
+    use pushmog::policy::PolicySettings;
+    let dir = scratch("cluster-policy-settings");
+    let scene = dir.join("scene.json");
+    let settings = dir.join("policy.json");
+    let text = r#"{"time_model": {"bin_distance": 2.0}, "min_push": 0.005}"#;
+    std::fs::write(&settings, text).unwrap();
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "3",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let objective = |args: &[&str]| {
+        let output = pushmog(&[&["cluster", scene.to_str().unwrap()], args].concat());
+        assert_eq!(output.status.code(), Some(0));
+        let stdout = String::from_utf8(output.stdout).unwrap();
+        let line = stdout.lines().find(|l| l.starts_with("objective")).unwrap();
+        line.split_whitespace().nth(1).unwrap().to_string()
+    };
+    let policy: PolicySettings = serde_json::from_str(text).unwrap();
+    let spec = std::fs::read_to_string(&scene).unwrap();
+    let table =
+        pushmog::scene::Scene::new(pushmog::json::from_json(&spec, "scene").unwrap()).unwrap();
+    let expected = Milp::new(policy.effective().milp)
+        .unwrap()
+        .cluster(&table)
+        .unwrap()
+        .stats
+        .objective
+        .unwrap();
+    let given = objective(&["--policy-settings", settings.to_str().unwrap()]);
+    assert_eq!(given, format!("{expected:.6}"));
+    assert_ne!(given, objective(&[]));
+    let both = pushmog(&[
+        "cluster",
+        scene.to_str().unwrap(),
+        "--settings",
+        settings.to_str().unwrap(),
+        "--policy-settings",
+        settings.to_str().unwrap(),
+    ]);
+    assert_eq!(both.status.code(), Some(2));
+}

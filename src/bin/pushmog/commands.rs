@@ -305,11 +305,29 @@ fn settings_or_default<T: serde::de::DeserializeOwned + Default>(path: Option<&P
 pub fn cluster(args: &ClusterArgs) -> Result<()> {
     let scene = read_scene(&args.scene)?;
     let settings = args.settings.as_deref();
+    // As a policy with these settings builds its clusterer: shared settings filled in.
+    let policy = match args.policy_settings.as_deref() {
+        Some(path) => {
+            let settings: PolicySettings = settings_or_default(Some(path))?;
+            settings.validate()?;
+            Some(settings.effective())
+        }
+        None => None,
+    };
     let outcome = match args.method.as_str() {
-        "milp" => Milp::new(settings_or_default::<MilpSettings>(settings)?)?.cluster(&scene)?,
+        "milp" => {
+            let milp = match &policy {
+                Some(policy) => policy.milp.clone(),
+                None => settings_or_default::<MilpSettings>(settings)?,
+            };
+            Milp::new(milp)?.cluster(&scene)?
+        }
         "hierarchical" => {
-            Hierarchical::new(settings_or_default::<HierarchicalSettings>(settings)?)?
-                .cluster(&scene)?
+            let hierarchical = match &policy {
+                Some(policy) => policy.clustering.clone(),
+                None => settings_or_default::<HierarchicalSettings>(settings)?,
+            };
+            Hierarchical::new(hierarchical)?.cluster(&scene)?
         }
         other => {
             return Err(Error::field(

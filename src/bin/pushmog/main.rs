@@ -214,8 +214,12 @@ struct ClusterArgs {
     #[arg(long, default_value = "milp")]
     method: String,
     /// Settings of the clusterer as JSON (fields not given keep their defaults).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "policy_settings")]
     settings: Option<PathBuf>,
+    /// Policy settings as JSON (`pushmog schema policy`): the clusterer as a policy with them builds
+    /// it, with the policy's `time_model`, `min_push`, `socp.margin` and `clustering` shared in.
+    #[arg(long)]
+    policy_settings: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
