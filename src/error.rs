@@ -119,6 +119,23 @@ pub enum Error {
         /// The last state read from the controller and the gripper.
         last_state: String,
     },
+    /// A trip was refused before anything of it was sent: the independent verifier found it wrong
+    /// (`Run::verify_before_acting`).
+    #[error("trip {trip}: refused before acting: the verifier says {reason}")]
+    Refused {
+        /// The trip (0-based).
+        trip: usize,
+        /// The verifier's first finding.
+        reason: String,
+    },
+    /// A file is held by another process (an experiment log another `pushmog experiment` writes).
+    #[error("{}: {reason}", path.display())]
+    Busy {
+        /// The file.
+        path: PathBuf,
+        /// Who holds it and what to do.
+        reason: String,
+    },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {

@@ -70,11 +70,12 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
             ("line", Int(*line as i64)),
             ("column", Int(*column as i64)),
         ],
+        E::Refused { trip, .. } => vec![("trip", Int(*trip as i64))],
         _ => Vec::new(),
     };
     let message = error.to_string();
     let err = match error {
-        E::Io { .. } => PyOSError::new_err(message),
+        E::Io { .. } | E::Busy { .. } => PyOSError::new_err(message),
         E::InvalidObject { .. }
         | E::DuplicateId { .. }
         | E::Overlap { .. }

@@ -508,7 +508,7 @@ impl LogLock {
     /// Locks `path` (creating an empty file when there is none).
     ///
     /// # Errors
-    /// [`Error::InvalidField`] when another process holds the lock; [`Error::Io`].
+    /// [`Error::Busy`] when another process holds the lock; [`Error::Io`].
     pub fn acquire(path: &Path) -> Result<Self> {
         let io = |source| Error::Io {
             path: path.to_path_buf(),
@@ -526,12 +526,12 @@ impl LogLock {
             .map_err(io)?;
         match file.try_lock() {
             Ok(()) => Ok(Self { _file: file }),
-            Err(std::fs::TryLockError::WouldBlock) => Err(Error::field(
-                path.display().to_string(),
-                "lock",
-                "another `pushmog experiment` is writing this log: wait for it to finish, or give \
-                 another --log",
-            )),
+            Err(std::fs::TryLockError::WouldBlock) => Err(Error::Busy {
+                path: path.to_path_buf(),
+                reason: "another `pushmog experiment` is writing this log: wait for it to finish, \
+                         or give another --log"
+                    .into(),
+            }),
             Err(std::fs::TryLockError::Error(source)) => Err(io(source)),
         }
     }

@@ -87,7 +87,8 @@ impl<'a> Run<'a> {
     /// end of the run. Returns the final status once the run has ended (and then does nothing).
     ///
     /// # Errors
-    /// An executor fault; the record so far stays available through [`Run::record`].
+    /// An executor fault, or with [`Run::verify_before_acting`] an [`crate::Error::Refused`] trip;
+    /// the record so far stays available through [`Run::record`].
     pub fn step(&mut self, executor: &mut dyn Executor) -> Result<Option<&RunStatus>> {
         if self.status.is_some() {
             return Ok(self.status.as_ref());
@@ -224,11 +225,10 @@ impl<'a> Run<'a> {
         }
         match crate::plan::verify_trip(record).first() {
             None => Ok(()),
-            Some(problem) => Err(crate::error::Error::field(
-                format!("trip {}", self.trips.len()),
-                "plan",
-                format!("refused before acting: the verifier says {problem}"),
-            )),
+            Some(problem) => Err(crate::error::Error::Refused {
+                trip: self.trips.len(),
+                reason: problem.clone(),
+            }),
         }
     }
 
