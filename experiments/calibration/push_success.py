@@ -14,7 +14,7 @@ row among them) and how many rounds of corrective pushes the trip made.
     python3 experiments/calibration/push_success.py --ahead ...                # rows pushed ahead
 
 `--check` compares the outcomes with the fitted tables the command line carries as its defaults
-(read from `pushmog schema policy`): each pushed cluster's predicted success is the band its
+(read from `pushmog schema policy`), or with those `--pricing` gives: each pushed cluster's predicted success is the band its
 judged probability falls in (`Pricing::carried_all`), the clusters are grouped by decile of that
 prediction, and each decile's observed success is set beside its mean prediction. `--figure` draws
 that as a reliability diagram (SVG). `--objective expected_time` runs the priced policy itself
@@ -152,6 +152,9 @@ def main():
     parser.add_argument("--objective", default="objects_per_trip",
                         choices=["objects_per_trip", "expected_time"],
                         help="pricing.objective of the runs (expected_time: the priced policy)")
+    parser.add_argument("--pricing", default="{}",
+                        help="more pricing settings as JSON, e.g. trial bands: "
+                             "'{\"ahead_success\": [{\"judged\": 0, \"carried_all\": 0.7}]}'")
     parser.add_argument("--check", action="store_true",
                         help="compare with the default tables, by decile of predicted success")
     parser.add_argument("--figure", help="with --check, write the reliability diagram here (SVG)")
@@ -164,8 +167,9 @@ def main():
     with tempfile.TemporaryDirectory() as folder:
         settings = os.path.join(folder, "settings.json")
         with open(settings, "w") as f:
-            json.dump(dict(JUDGE, pricing={"push_ahead": args.ahead,
-                                           "objective": args.objective}), f)
+            pricing = dict(json.loads(args.pricing), push_ahead=args.ahead,
+                           objective=args.objective)
+            json.dump(dict(JUDGE, pricing=pricing), f)
         seeds = range(args.first, args.first + args.count)
         with ThreadPoolExecutor(args.jobs) as pool:
             plans = list(pool.map(lambda s: run(args.pushmog, folder, s, settings), seeds))
@@ -187,6 +191,9 @@ def main():
         print(f"| {label} | {n} | {q:.3f} | ± {half:.3f} | {rounds:.3f} |")
     if args.check:
         in_trip, ahead = fitted_bands(args.pushmog)
+        given = json.loads(args.pricing)
+        in_trip = [(b["judged"], b["carried_all"]) for b in given.get("success", [])] or in_trip
+        ahead = [(b["judged"], b["carried_all"]) for b in given.get("ahead_success", [])] or ahead
         rows = [(predicted(ahead if is_ahead else in_trip, p), ok) for p, ok, _, is_ahead in rows]
         table = deciles(rows)
         print()

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::scene::{Gripper, ObjectId, ObjectSpec, Scene, SceneSpec, Workspace};
+use crate::scene::{Gripper, ObjectId, ObjectSpec, SceneSpec, Workspace};
 
 /// A recorded scene: a [`SceneSpec`] whose objects may be shared with other recorded scenes.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,11 +46,6 @@ impl SharedScene {
             gripper: scene.gripper,
             objects,
         }
-    }
-
-    /// A validated scene, recorded on its own.
-    pub fn of(scene: &Scene) -> Self {
-        Self::sharing(scene.to_spec(), None)
     }
 
     /// The scene as a plain [`SceneSpec`] (a copy of every object).
