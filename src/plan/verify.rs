@@ -251,6 +251,7 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     // The pushes up to the first look on the trip's scene, each later run of pushes on the look
     // before it, the grasp after the last run.
     let mut tables = vec![(scene, 0)];
+    let here: std::collections::BTreeSet<ObjectId> = trip.scene.ids().collect();
     for (n, look) in trip.looks.iter().enumerate() {
         let start = tables.last().map_or(0, |t| t.1);
         if look.after_pushes < start || look.after_pushes > trip.pushes.len() {
@@ -267,7 +268,6 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
                 "look {n}: its workspace or gripper is not the trip's"
             ));
         }
-        let here: std::collections::BTreeSet<ObjectId> = trip.scene.ids().collect();
         if let Some(new) = look.scene.objects.iter().find(|o| !here.contains(&o.id)) {
             found.push(format!(
                 "look {n}: object {} was not on the trip's table",
