@@ -747,6 +747,7 @@ fn the_expected_time_price_pushes_only_when_it_pays() {
             ahead_success: bands,
             corrections: 0.0,
             push_ahead: false,
+            ahead_rows: 1,
         };
         let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
         let plan = policy.run(&scene, &mut policy.ideal(), 3).unwrap();
@@ -779,14 +780,16 @@ fn the_expected_time_price_pushes_only_when_it_pays() {
     assert_eq!(not_paying(&paper), 0);
 }
 
-/// Pushing ahead: a trip's pushes prepare a row for a later trip and never move what the trip's own
-/// grasp takes; such a trip makes no look of its own (the next trip's look shows the row), rows
-/// pushed ahead are carried together by a later trip, and every plan verifies. With grasps after
-/// pushes that never carry everything, nothing is pushed ahead.
+/// Pushing ahead: a trip's pushes prepare rows for later trips and never move what the trip's own
+/// grasp takes; such a trip makes no look of its own (the next trip's look shows the rows), each row
+/// pushed ahead is carried together by a later trip, and every plan verifies. With one row a trip
+/// (`ahead_rows` 1) each trip pushes one cluster; with the default, some trip pushes several, and
+/// only when no row pushed before still waits. With grasps after pushes that never carry
+/// everything, nothing is pushed ahead.
 #[test]
 fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
     use pushmog::policy::{Pricing, SuccessBand, TripObjective};
-    let run = |scene: &Scene, carried_all: f64| {
+    let run = |scene: &Scene, carried_all: f64, ahead_rows: usize| {
         let bands = vec![SuccessBand {
             judged: 0.0,
             carried_all,
@@ -797,6 +800,7 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
                 success: bands.clone(),
                 ahead_success: bands,
                 push_ahead: true,
+                ahead_rows,
                 ..Pricing::default()
             },
             ..PolicySettings::default()
@@ -807,12 +811,11 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
         assert!(matches!(plan.status, RunStatus::Cleared));
         plan
     };
-    let mut ahead = 0;
-    let mut taken_later = 0;
-    for seed in [5, 6] {
+    let (mut rows, mut taken_later, mut batched) = (0, 0, 0);
+    for (seed, ahead_rows) in [(5, 1), (6, 1), (5, 12), (6, 12)] {
         let scene =
             generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
-        let plan = run(&scene, 1.0);
+        let plan = run(&scene, 1.0, ahead_rows);
         for (k, trip) in plan.trips.iter().enumerate() {
             if trip.pushes.is_empty() {
                 continue;
@@ -823,19 +826,49 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
                     .all(|p| !trip.grasp.objects.contains(&p.object))
             );
             assert!(trip.looks.is_empty());
-            ahead += 1;
-            let pushed: Vec<_> = trip.pushes.iter().map(|p| p.object).collect();
-            let later = &plan.trips[k + 1..];
-            if later
+            // The rows: the trip's clusters holding objects it pushed ahead.
+            let trip_rows: Vec<Vec<_>> = trip
+                .clustering
+                .clusters
                 .iter()
-                .any(|t| t.carried.len() >= 2 && pushed.iter().all(|id| t.carried.contains(id)))
-            {
-                taken_later += 1;
+                .map(|c| {
+                    c.iter()
+                        .copied()
+                        .filter(|id| trip.ahead.contains(id))
+                        .collect()
+                })
+                .filter(|row: &Vec<_>| !row.is_empty())
+                .collect();
+            assert!(trip_rows.len() <= ahead_rows, "{trip_rows:?}");
+            batched += usize::from(trip_rows.len() >= 2);
+            // No row pushed before was still waiting: every object pushed ahead earlier has been
+            // grasped (or pushed again) by now.
+            let earlier: Vec<_> = plan.trips[..k]
+                .iter()
+                .flat_map(|t| t.ahead.clone())
+                .collect();
+            assert!(earlier.iter().all(|id| {
+                plan.trips[..=k]
+                    .iter()
+                    .any(|t| t.grasp.objects.contains(id))
+                    || !trip.scene.ids().any(|s| s == *id)
+                    || trip.pushes.iter().any(|p| p.object == *id)
+            }));
+            let later = &plan.trips[k + 1..];
+            for row in &trip_rows {
+                rows += 1;
+                if later
+                    .iter()
+                    .any(|t| row.len() >= 2 && row.iter().all(|id| t.carried.contains(id)))
+                {
+                    taken_later += 1;
+                }
             }
         }
-        assert_eq!(run(&scene, 0.0).push_count(), 0);
+        assert_eq!(run(&scene, 0.0, ahead_rows).push_count(), 0);
     }
-    assert!(ahead >= 4, "{ahead} trips pushed ahead");
+    assert!(rows >= 8, "{rows} rows pushed ahead");
+    assert!(batched >= 1, "no trip pushed two rows or more");
     // Plans applied exactly: the rows come out as planned and are taken together.
-    assert_eq!(taken_later, ahead);
+    assert_eq!(taken_later, rows);
 }

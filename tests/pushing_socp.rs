@@ -375,3 +375,92 @@ fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
         "{report}"
     );
 }
+
+/// Flush pushes (`socp.flush`): on seeded scenes, the MILP proposes pairs a flush push can line up;
+/// every push push-mog-opt then makes meets a face of its object flat (within the cone of that
+/// face's normal, the jaws closed to one block facing the face), and every plan, applied exactly,
+/// verifies and clears the table.
+#[test]
+fn flush_pushes_meet_a_face_of_their_object_flat() {
+    use pushmog::cluster::{FlushPairs, Milp, MilpSettings};
+    use pushmog::plan::{RunStatus, verify};
+    use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+    use pushmog::push::flush::{PairRow, admits_flush_pair, block_opening, flush_face};
+    let mut settings = PolicySettings::default();
+    settings.socp.flush = true;
+    let socp = settings.socp.clone();
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let (mut pushes, mut pairs) = (0, 0);
+    for seed in 0..4 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        // The MILP's pairs pass the flush pair test.
+        let milp = Milp::new(MilpSettings {
+            flush_pairs: Some(FlushPairs {
+                straddle: socp.straddle,
+                margin: socp.flush_margin,
+                cone: socp.flush_cone,
+                tight: socp.flush_gap,
+            }),
+            ..MilpSettings::default()
+        })
+        .unwrap();
+        let row = PairRow {
+            row_limit: scene.gripper().usable_gap() - socp.margin,
+            gap: socp.gap,
+            straddle: socp.straddle,
+            tight: Some(socp.flush_gap),
+        };
+        for cluster in milp.cluster(&scene).unwrap().value.clusters {
+            if let [a, b] = cluster[..] {
+                pairs += 1;
+                let (a, b) = (scene.index_of(a).unwrap(), scene.index_of(b).unwrap());
+                let cone = (socp.flush_margin, socp.flush_cone);
+                assert!(admits_flush_pair(&scene, (a, b), row, cone));
+            }
+        }
+        let plan = policy.run(&scene, &mut policy.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared));
+        for trip in &plan.trips {
+            let table = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
+            for push in &trip.pushes {
+                pushes += 1;
+                let Some(index) = table.index_of(push.object) else {
+                    continue;
+                };
+                let outline = table.world_polygon(index);
+                let face = flush_face(outline, socp.flush_margin, &push.direction, socp.flush_cone)
+                    .expect("a face the push meets flat");
+                let jaw_line = Vector2::new(push.fork.jaw_angle.cos(), push.fork.jaw_angle.sin());
+                assert!(
+                    jaw_line.dot(&face.normal).abs() < 1e-9,
+                    "jaw line along the face"
+                );
+                assert!((push.fork.opening - block_opening(table.gripper())).abs() < 1e-12);
+            }
+        }
+    }
+    println!("{pairs} pairs proposed, {pushes} flush pushes");
+    assert!(
+        pairs >= 20 && pushes >= 10,
+        "{pairs} pairs, {pushes} pushes"
+    );
+    // The verifier takes a jaw line up to 40° from perpendicular to the push (beyond any pad's
+    // friction cone the fingers would slide along the face) and names one further off.
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 0).unwrap();
+    let plan = policy.run(&scene, &mut policy.ideal(), 0).unwrap();
+    let trip = plan.trips.iter().find(|t| !t.pushes.is_empty()).unwrap();
+    let skewed = |degrees: f64| {
+        let mut trip = trip.clone();
+        let push = &mut trip.pushes[0];
+        push.fork.jaw_angle = push.direction.y.atan2(push.direction.x)
+            + std::f64::consts::FRAC_PI_2
+            + degrees.to_radians();
+        pushmog::plan::verify_trip(&trip)
+            .iter()
+            .any(|v| v.contains("from perpendicular"))
+    };
+    assert!(!skewed(0.0) && !skewed(35.0));
+    assert!(skewed(45.0) && skewed(-60.0));
+}

@@ -405,3 +405,62 @@ fn a_pair_held_only_at_the_edge_of_friction_is_refused_with_friction_to_spare() 
     };
     assert!(sim.grasp(&grasp).unwrap().carried.len() < 2);
 }
+
+/// Flush pushes (`push::flush`): a square pushed along a face's normal with the jaws closed to one
+/// block flat against that face slides without turning, and so does one pushed 10° off the normal
+/// with the block still flat against the face (inside the pads' friction cone, atan 0.4 = 21.8°);
+/// the same push with the block across the push, 20° off the face, meets the square with one
+/// corner and turns it until the face lies flat against the block.
+#[test]
+fn a_flush_push_slides_its_object_without_turning_it() {
+    use nalgebra::Vector2;
+    use pushmog::push::Push;
+    use pushmog::push::flush::{block_opening, turned};
+    use pushmog::push::fork::{ForkSettings, plan_fork_facing};
+    let turn_after = |off: f64, flat: bool| {
+        let s = scene(vec![(square(0.03), 0.12, 0.15, 0.0)]);
+        let world = vec![s.world_polygon(0).clone()];
+        let direction = turned(&Vector2::x(), off.to_radians());
+        let facing = if flat { Vector2::x() } else { direction };
+        let distance = 0.05;
+        let fork = plan_fork_facing(
+            s.gripper(),
+            &ForkSettings::default(),
+            &world,
+            &[ObjectId(0)],
+            0,
+            0.03,
+            (&direction, &facing),
+            distance,
+            block_opening(s.gripper()),
+        )
+        .unwrap();
+        let from = s.objects()[0].pose;
+        let moved = direction * distance;
+        let push = Push {
+            object: ObjectId(0),
+            from,
+            to: Pose::new(from.x + moved.x, from.y + moved.y, from.yaw),
+            direction,
+            distance,
+            fork,
+        };
+        let mut sim = sim();
+        sim.reset(&s).unwrap();
+        sim.push(&push).unwrap();
+        let pose = sim.observe().unwrap().objects()[0].pose;
+        let miss = (pose.x - push.to.x).hypot(pose.y - push.to.y);
+        let turn = pose.yaw.sin().abs().asin().to_degrees();
+        println!(
+            "{off}° off, flat {flat}: turned {turn:.2}°, {:.2} mm from target",
+            miss * 1e3
+        );
+        (turn, miss)
+    };
+    let (along, miss) = turn_after(0.0, true);
+    assert!(along < 1.0 && miss < 0.002, "{along}° {miss} m");
+    let (oblique, miss) = turn_after(10.0, true);
+    assert!(oblique < 1.0 && miss < 0.002, "{oblique}° {miss} m");
+    let (across, _) = turn_after(20.0, false);
+    assert!(across > 10.0, "{across}°");
+}

@@ -48,11 +48,14 @@ def run(pushmog, folder, seed, settings):
 
 
 def pushed_trips(plan):
-    """(judged, carried all, corrective rounds, ahead) of each trip whose first plan pushed.
+    """(judged, carried all, corrective rounds, ahead) of each trip whose first plan pushed, and of
+    each row it pushed ahead.
 
     Pushes for the trip's own grasp succeed when its last grasp took two or more objects and
-    carried at least that many. Pushes ahead (the trip's `ahead` row) succeed when the next trip
-    carried two or more objects, the whole row among them."""
+    carried at least that many. A row pushed ahead (the trip's `ahead` objects that one cluster of
+    its clustering holds; a trip may push several) succeeds when the first later trip that grasps
+    or pushes any of its objects grasps the whole row and carries it; pushed again first, it
+    failed. Every row of a trip is counted with the trip's `judged`, which is its first row's."""
     trips = plan["trips"]
     for k, trip in enumerate(trips):
         if trip.get("judged") is None:
@@ -63,9 +66,18 @@ def pushed_trips(plan):
             rounds = sum(1 for look in looks if look["after_pushes"] < len(trip["pushes"]))
             planned = len(trip["grasp"]["objects"])
             yield trip["judged"], planned >= 2 and len(trip["carried"]) >= planned, rounds, False
-        else:
-            after = set(trips[k + 1]["carried"]) if k + 1 < len(trips) else set()
-            yield trip["judged"], len(after) >= 2 and ahead <= after, 0, True
+            continue
+        rows = [set(c) & ahead for c in trip["clustering"]["clusters"] if set(c) & ahead]
+        for row in rows:
+            outcome = False
+            for later in trips[k + 1:]:
+                grasped = set(later["grasp"]["objects"])
+                if grasped & row:
+                    outcome = row <= grasped and row <= set(later["carried"])
+                    break
+                if {p["object"] for p in later["pushes"]} & row:
+                    break
+            yield trip["judged"], outcome, 0, True
 
 
 def fitted_bands(pushmog):
@@ -152,6 +164,11 @@ def main():
     parser.add_argument("--objective", default="objects_per_trip",
                         choices=["objects_per_trip", "expected_time"],
                         help="pricing.objective of the runs (expected_time: the priced policy)")
+    parser.add_argument("--settings", default=json.dumps(JUDGE),
+                        help="the policy's other settings as JSON (default: the wide judge the "
+                             "first fits used); `pricing` is added from the options here, e.g. "
+                             "push-mog-time's flush pushes and default judge: "
+                             "'{\"socp\": {\"flush\": true}}'")
     parser.add_argument("--pricing", default="{}",
                         help="more pricing settings as JSON, e.g. trial bands: "
                              "'{\"ahead_success\": [{\"judged\": 0, \"carried_all\": 0.7}]}'")
@@ -169,26 +186,27 @@ def main():
         with open(settings, "w") as f:
             pricing = dict(json.loads(args.pricing), push_ahead=args.ahead,
                            objective=args.objective)
-            json.dump(dict(JUDGE, pricing=pricing), f)
+            json.dump(dict(json.loads(args.settings), pricing=pricing), f)
         seeds = range(args.first, args.first + args.count)
         with ThreadPoolExecutor(args.jobs) as pool:
             plans = list(pool.map(lambda s: run(args.pushmog, folder, s, settings), seeds))
     rows = [row for plan in plans for row in pushed_trips(plan)]
     print(f"scenes {args.first}-{args.first + args.count - 1}: {len(rows)} pushed trips")
     print()
-    print("| judged | trips | carried all | 95 % interval | corrective rounds per trip |")
-    print("|---|---:|---:|---:|---:|")
-    for k, low in enumerate(bands):
-        high = bands[k + 1] if k + 1 < len(bands) else 1.0 + 1e-9
-        band = [r for r in rows if low <= r[0] < high]
-        if not band:
-            continue
-        n = len(band)
-        q = sum(r[1] for r in band) / n
-        half = 1.96 * (q * (1 - q) / n) ** 0.5
-        rounds = sum(r[2] for r in band) / n
-        label = f"≥ {low:g}" if k + 1 == len(bands) else f"[{low:g}, {high:g})"
-        print(f"| {label} | {n} | {q:.3f} | ± {half:.3f} | {rounds:.3f} |")
+    print("| pushes | judged | trips | carried all | 95 % interval | corrective rounds per trip |")
+    print("|---|---|---:|---:|---:|---:|")
+    for kind, is_ahead in (("in the trip", False), ("ahead", True)):
+        for k, low in enumerate(bands):
+            high = bands[k + 1] if k + 1 < len(bands) else 1.0 + 1e-9
+            band = [r for r in rows if low <= r[0] < high and r[3] == is_ahead]
+            if not band:
+                continue
+            n = len(band)
+            q = sum(r[1] for r in band) / n
+            half = 1.96 * (q * (1 - q) / n) ** 0.5
+            rounds = sum(r[2] for r in band) / n
+            label = f"≥ {low:g}" if k + 1 == len(bands) else f"[{low:g}, {high:g})"
+            print(f"| {kind} | {label} | {n} | {q:.3f} | ± {half:.3f} | {rounds:.3f} |")
     if args.check:
         in_trip, ahead = fitted_bands(args.pushmog)
         given = json.loads(args.pricing)

@@ -38,8 +38,22 @@ use super::{Clusterer, Clustering};
 use super::{ROW_GAP, admits_row, split_unrowable};
 use crate::error::{Error, Result};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::push::flush::{PairRow, admits_flush_pair};
 use crate::scene::Scene;
 use crate::time_model::TimeModel;
+
+/// The push planner's flush-push settings, for the clustering's pair test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlushPairs {
+    /// How far each member must reach past the plates' centre line on both sides, metres.
+    pub straddle: f64,
+    /// How far a finger must overlap the face it pushes, metres.
+    pub margin: f64,
+    /// Largest angle between a flush push and its face's normal, radians.
+    pub cone: f64,
+    /// Gap a flush push leaves between a pair, at most, metres.
+    pub tight: f64,
+}
 
 /// Which MILP solver.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -94,6 +108,12 @@ pub struct MilpSettings {
     /// that count) rather than as one weighted sum. Default true: the weighted sum's near-ties slow
     /// the proof by orders of magnitude (`formulations/clustering.md`).
     pub two_stage_fewest_clusters: bool,
+    /// With flush pushes (`socp.flush`), pairs are candidates only when a flush push of one member
+    /// lines them up ([`crate::push::flush::admits_flush_pair`]): the straddle and the face margin
+    /// of the push planner. `None` (default): any pair that stands in a row. In a policy it is set
+    /// from `socp`.
+    #[serde(skip)]
+    pub flush_pairs: Option<FlushPairs>,
     /// Seconds per trip and per push. In a policy it is the policy's (`PolicySettings::time_model`).
     #[serde(skip)]
     pub time_model: TimeModel,
@@ -117,6 +137,7 @@ impl Default for MilpSettings {
             mip_gap: 0.0,
             backend: MilpBackend::Microlp,
             two_stage_fewest_clusters: true,
+            flush_pairs: None,
             time_model: TimeModel::default(),
             heuristic: HierarchicalSettings::default(),
         }
@@ -540,7 +561,21 @@ impl Clusterer for Milp {
         let limit = scene.gripper().usable_gap() - settings.row_margin;
         // The heuristic's clusters join the candidates, so that its answer is a feasible point; one
         // that cannot stand in a row is split into single objects, as it would be taken.
-        let heuristic_clusters = split_unrowable(
+        let flush_ok = |members: &[usize]| match (settings.flush_pairs, members) {
+            (Some(flush), &[a, b]) => admits_flush_pair(
+                scene,
+                (a, b),
+                PairRow {
+                    row_limit: limit,
+                    gap: ROW_GAP,
+                    straddle: flush.straddle,
+                    tight: Some(flush.tight),
+                },
+                (flush.margin, flush.cone),
+            ),
+            _ => true,
+        };
+        let heuristic_clusters: Vec<Vec<usize>> = split_unrowable(
             scene,
             heuristic
                 .value
@@ -554,7 +589,16 @@ impl Clusterer for Milp {
                 .collect::<Result<_>>()?,
             limit,
             ROW_GAP,
-        );
+        )
+        .into_iter()
+        .flat_map(|members| {
+            if flush_ok(&members) {
+                vec![members]
+            } else {
+                members.into_iter().map(|i| vec![i]).collect()
+            }
+        })
+        .collect();
         let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
         let give_up = |what: String| Outcome {
             value: heuristic.value.clone(),
@@ -579,7 +623,7 @@ impl Clusterer for Milp {
             scene,
             settings.max_cluster_size,
             settings.max_diameter,
-            &|c| admits_row(scene, c, limit, ROW_GAP),
+            &|c| admits_row(scene, c, limit, ROW_GAP) && flush_ok(c),
             Budget {
                 max_items: settings.max_candidates,
                 deadline: Some(deadline),

@@ -5,8 +5,10 @@
 //!   (`Σ d* ≤ usable gap`); every two clusters' centroids are split by a line;
 //! - **pushes**, in order, on the table as it stands at that moment: the object starts where it is and
 //!   ends where the push says; its straight sweep touches no other object; the jaw line is
-//!   perpendicular to the push; the fingers at the approach point overlap no object, do not cut into
-//!   the pushed object at contact, and their sweep to the end of the push touches no other object;
+//!   perpendicular to the push, or at most [`MAX_SKEW`] from it (a flush push meets a face at an
+//!   angle, its jaw line along the face); the fingers at the approach point overlap no object, do
+//!   not cut into the pushed object at contact, and their sweep to the end of the push touches no
+//!   other object;
 //! - **looks** (new observations during a trip): each after a number of pushes in order, with the
 //!   trip's workspace and gripper and no object the trip's table did not hold; the pushes after a
 //!   look are checked on it;
@@ -33,6 +35,10 @@ use crate::scene::{Gripper, MAX_YAW, ObjectId, Scene};
 const TOLERANCE: f64 = 1e-9;
 /// Penetration accepted where two shapes are meant to touch, metres.
 const TOUCH: f64 = 1e-6;
+/// Largest angle between a push and the direction its fingers face, radians (40°): beyond the
+/// friction cone of any pad surface the project knows (μ ≤ 0.8, atan 0.8 = 38.7°,
+/// `formulations/references.md`), fingers pushing at that angle slide along the face they push.
+pub const MAX_SKEW: f64 = 40.0 * std::f64::consts::PI / 180.0;
 
 /// One broken rule.
 #[derive(Clone, Debug, PartialEq)]
@@ -489,9 +495,11 @@ fn check_pushes(
             continue;
         }
         let jaw_line = Vector2::new(fork.jaw_angle.cos(), fork.jaw_angle.sin());
-        if jaw_line.dot(&direction).abs() > 1e-6 {
+        if jaw_line.dot(&direction).abs() > MAX_SKEW.sin() + 1e-9 {
             found.push(format!(
-                "push {n}: the jaw line is not perpendicular to the push"
+                "push {n}: the jaw line is {:.1}° from perpendicular to the push (at most {:.0}°)",
+                jaw_line.dot(&direction).abs().asin().to_degrees(),
+                MAX_SKEW.to_degrees()
             ));
         }
         if ((fork.end - fork.contact) - moved).norm() > TOLERANCE {

@@ -7,9 +7,10 @@
 //!
 //! Each trip, in order:
 //! 1. the grasp: the row the last trip pushed ahead, grasped as it now lies when the multi-object
-//!    planner finds a grasp of two or more of it; otherwise a cluster chosen at random, grasped as
-//!    it lies (two or more together, else one by itself), and the row that did not come out is the
-//!    first tried for pushes ahead again;
+//!    planner finds a grasp of two or more of it; otherwise a single object chosen at random (a
+//!    cluster chosen at random when none is left), grasped as it lies (two or more together, else
+//!    one by itself), and the row that did not come out is the first tried for pushes ahead
+//!    again;
 //! 2. the pushes ahead: other clusters of two or more, nearest the grasp first (at most
 //!    [`AHEAD_TRIES`] tried), the first whose pushes are planned with a multi-object grasp after
 //!    them, pay by the price without a look and with the travel from them to the trip's grasp
@@ -21,14 +22,27 @@
 
 use super::trip::TripContext;
 use super::{Policy, PolicyPusher, TripPlan};
+use super::{grasp_path, push_paths};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::grasp::Grasp;
-use crate::push::predict;
+use crate::push::{Push, SkippedPush, predict};
 use crate::scene::{ObjectId, Scene};
 
 /// A trip's grasp and the position of its cluster in the clustering.
 type ChosenGrasp = (Option<usize>, Grasp);
+
+/// The rows one trip pushes ahead: its pushes in order, each row's objects and the cluster members
+/// it was planned from, the judged probability of the first row's grasp, the trip's own grasp
+/// planned again on the table predicted after the pushes, and the pushes planned and not made.
+struct Batch {
+    pushes: Vec<Push>,
+    rows: Vec<Vec<ObjectId>>,
+    members: Vec<Vec<ObjectId>>,
+    judged: Option<f64>,
+    standing: Grasp,
+    skipped: Vec<SkippedPush>,
+}
 
 /// Clusters tried for pushes ahead in one trip: each try plans pushes (an SOCP per axis and order
 /// for push-mog-opt) and a multi-object grasp, so the number bounds a trip's planning time.
@@ -50,6 +64,20 @@ impl Policy {
         let Some((cluster, grasp)) = chosen else {
             return Ok(None);
         };
+        let plain = |grasp: Grasp, skipped| TripPlan {
+            clustering: clustering.clone(),
+            cluster,
+            pushes: Vec::new(),
+            skipped_pushes: skipped,
+            grasp,
+            judged: None,
+            ahead: Vec::new(),
+        };
+        // Rows pushed before still wait for their grasps: the next rows are pushed together once
+        // none waits.
+        if !context.ahead.is_empty() {
+            return Ok(Some(plain(grasp, Vec::new())));
+        }
         let mut others: Vec<usize> = candidates
             .iter()
             .copied()
@@ -68,86 +96,208 @@ impl Policy {
                 .sum();
             nalgebra::Point2::from(sum / members.len() as f64)
         };
-        let mut by_distance: Vec<(f64, usize)> = others
-            .iter()
-            .map(|&k| (nalgebra::distance(&centre(k), &grasp.jaws.center), k))
-            .collect();
-        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
-        others = by_distance.into_iter().map(|(_, k)| k).collect();
-        // A row pushed ahead that did not come out graspable is pushed again first.
-        let again = (unformed.len() >= 2 && unformed.iter().all(|id| !grasp.objects.contains(id)))
-            .then_some(unformed);
-        let tries: Vec<Vec<ObjectId>> = again
-            .into_iter()
-            .chain(others.into_iter().map(|k| clustering.clusters[k].clone()))
-            .take(AHEAD_TRIES)
-            .collect();
-        let mut skipped = Vec::new();
-        for members in &tries {
-            let (pushed, why_not) =
-                self.push_draft(pusher, observed, members, context, (1, false, Some(&grasp)))?;
-            skipped.extend(why_not);
-            let Some((pushes, later, judged)) = pushed else {
-                continue;
-            };
-            let touches = |id: &ObjectId| grasp.objects.contains(id);
-            if pushes.iter().any(|p| touches(&p.object)) || later.objects.iter().any(touches) {
-                continue;
-            }
-            let predicted = predict(observed, &pushes)?;
-            let Some(standing) = self.grasp_again(&predicted, &grasp, context)? else {
-                continue;
-            };
-            context.ahead.clone_from(&later.objects);
-            return Ok(Some(TripPlan {
-                clustering: clustering.clone(),
-                cluster,
-                pushes,
-                skipped_pushes: skipped,
-                grasp: standing,
-                judged: Some(judged),
-                ahead: later.objects,
-            }));
+        // A chain: the cluster nearest the grasp, then the one nearest that, and so on, so that
+        // rows pushed together and made from the chain's far end lie along a short path.
+        let mut chain = Vec::with_capacity(others.len());
+        let mut at = grasp.jaws.center;
+        while !others.is_empty() {
+            let (k, _) = others
+                .iter()
+                .enumerate()
+                .map(|(k, &c)| (k, nalgebra::distance(&centre(c), &at)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap_or((0, 0.0));
+            let next = others.remove(k);
+            at = centre(next);
+            chain.push(next);
         }
+        others = chain;
+        // Rows pushed ahead that did not come out graspable are pushed again first.
+        let rows = self.settings.pricing.ahead_rows;
+        let tries: Vec<Vec<ObjectId>> = unformed
+            .into_iter()
+            .filter(|row| row.len() >= 2 && row.iter().all(|id| !grasp.objects.contains(id)))
+            .chain(others.into_iter().map(|k| clustering.clusters[k].clone()))
+            .take(AHEAD_TRIES + rows - 1)
+            .collect();
+        let forward = self.plan_batch(pusher, observed, &tries, &grasp, context)?;
+        // Rows are tried nearest the grasp first; made in that order the arm would go out and back.
+        // The same rows planned again farthest first are kept when that trip is shorter.
+        let batch = if forward.rows.len() >= 2 {
+            let reversed: Vec<Vec<ObjectId>> = forward.members.iter().rev().cloned().collect();
+            let backward = self.plan_batch(pusher, observed, &reversed, &grasp, context)?;
+            let seconds = |batch: &Batch| {
+                let model = &self.settings.time_model;
+                let jaws = grasp_path(&batch.standing, observed.gripper());
+                model.trip_seconds(observed.gripper(), &push_paths(&batch.pushes), &jaws)
+            };
+            if backward.rows.len() == forward.rows.len() && seconds(&backward) < seconds(&forward) {
+                Batch {
+                    skipped: forward.skipped,
+                    ..backward
+                }
+            } else {
+                forward
+            }
+        } else {
+            forward
+        };
+        if batch.rows.is_empty() {
+            return Ok(Some(plain(grasp, batch.skipped)));
+        }
+        let ahead = batch.rows.iter().flatten().copied().collect();
+        context.ahead = batch.rows;
         Ok(Some(TripPlan {
             clustering: clustering.clone(),
             cluster,
-            pushes: Vec::new(),
-            skipped_pushes: skipped,
-            grasp,
-            judged: None,
-            ahead: Vec::new(),
+            pushes: batch.pushes,
+            skipped_pushes: batch.skipped,
+            grasp: batch.standing,
+            judged: batch.judged,
+            ahead,
         }))
     }
 
-    /// Step 1 of the module docs: the row pushed ahead, else a random cluster, grasped as it lies;
-    /// with the position of its cluster in `clustering`, and the row pushed ahead when it could
-    /// not be grasped together (else empty).
+    /// Rows pushed ahead in one trip whose grasp is `grasp`: `tries` in order, each planned on the
+    /// table predicted after the pushes of those before it and kept when its pushes pay for what
+    /// they add to the trip, move nothing already taken, and leave the trip's grasp and every row
+    /// kept before graspable; at most `pricing.ahead_rows` rows.
+    fn plan_batch(
+        &self,
+        pusher: &dyn PolicyPusher,
+        observed: &Scene,
+        tries: &[Vec<ObjectId>],
+        grasp: &Grasp,
+        context: &TripContext,
+    ) -> Result<Batch> {
+        let most = self.settings.pricing.ahead_rows;
+        let mut batch = Batch {
+            pushes: Vec::new(),
+            rows: Vec::new(),
+            members: Vec::new(),
+            judged: None,
+            standing: grasp.clone(),
+            skipped: Vec::new(),
+        };
+        let mut table = observed.clone();
+        for members in tries {
+            if batch.rows.len() >= most {
+                break;
+            }
+            let taken: Vec<ObjectId> = batch
+                .standing
+                .objects
+                .iter()
+                .chain(batch.rows.iter().flatten())
+                .copied()
+                .collect();
+            if members.iter().any(|id| taken.contains(id)) {
+                continue;
+            }
+            let (pushed, why_not) = self.push_draft(
+                pusher,
+                &table,
+                members,
+                context,
+                (1, false, Some((&batch.pushes, &batch.standing))),
+            )?;
+            batch.skipped.extend(why_not);
+            let Some((more, later, judged)) = pushed else {
+                continue;
+            };
+            let touches = |id: &ObjectId| taken.contains(id);
+            if more.iter().any(|p| touches(&p.object)) || later.objects.iter().any(touches) {
+                continue;
+            }
+            let mut all = batch.pushes.clone();
+            all.extend(more);
+            let predicted = predict(observed, &all)?;
+            let Some(again) = self.grasp_again(&predicted, grasp, context)? else {
+                continue;
+            };
+            // The rows pushed before in this trip must still be graspable after these pushes.
+            if !self.rows_stand(&predicted, &batch.rows, context)? {
+                continue;
+            }
+            (batch.pushes, table, batch.standing) = (all, predicted, again);
+            batch.rows.push(later.objects);
+            batch.members.push(members.clone());
+            batch.judged.get_or_insert(judged);
+        }
+        Ok(batch)
+    }
+
+    /// Whether each of `rows` still has a multi-object grasp of all its objects on `predicted`.
+    fn rows_stand(
+        &self,
+        predicted: &Scene,
+        rows: &[Vec<ObjectId>],
+        context: &TripContext,
+    ) -> Result<bool> {
+        for row in rows {
+            let grasp = self
+                .multi
+                .plan_several(predicted, row, &[], &[], &context.failed)?
+                .value;
+            if !grasp.is_some_and(|g| g.objects.len() >= row.len() && context.together(&g)) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Step 1 of the module docs: a row pushed ahead, else a single object (a cluster when none is
+    /// left) chosen at random, grasped as it lies; with the position of its cluster in
+    /// `clustering`, and the rows pushed ahead that were tried and could not be grasped together.
+    /// The rows not tried stay waiting in `context`.
     fn grasp_as_it_lies(
         &self,
         observed: &Scene,
         clustering: &Clustering,
         candidates: &[usize],
         context: &mut TripContext,
-    ) -> Result<(Option<ChosenGrasp>, Vec<ObjectId>)> {
+    ) -> Result<(Option<ChosenGrasp>, Vec<Vec<ObjectId>>)> {
         let avoid = context.failed.clone();
-        let waiting: Vec<ObjectId> = std::mem::take(&mut context.ahead)
+        let mut waiting: Vec<Vec<ObjectId>> = std::mem::take(&mut context.ahead)
             .into_iter()
-            .filter(|&id| observed.index_of(id).is_some())
+            .map(|row| {
+                row.into_iter()
+                    .filter(|&id| observed.index_of(id).is_some())
+                    .collect::<Vec<_>>()
+            })
+            .filter(|row| row.len() >= 2)
             .collect();
-        if waiting.len() >= 2 {
-            let outcome = self
-                .multi
-                .plan_several(observed, &waiting, &[], &[], &avoid)?;
+        let mut unformed = Vec::new();
+        while !waiting.is_empty() {
+            let row = waiting.remove(0);
+            let outcome = self.multi.plan_several(observed, &row, &[], &[], &avoid)?;
             if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
                 let cluster = clustering
                     .clusters
                     .iter()
                     .position(|c| grasp.objects.iter().any(|id| c.contains(id)));
-                return Ok((Some((cluster, grasp)), Vec::new()));
+                // Rows that share no object with this grasp keep waiting.
+                context.ahead = waiting
+                    .into_iter()
+                    .filter(|r| r.iter().all(|id| !grasp.objects.contains(id)))
+                    .collect();
+                return Ok((Some((cluster, grasp)), unformed));
             }
+            unformed.push(row);
         }
-        let chosen = candidates[context.rng.index(candidates.len())];
+        // A single object when one is left: a pair is worth more pushed ahead than taken as it
+        // lies, and every later trip grasps the row the trip before pushed.
+        let singles: Vec<usize> = candidates
+            .iter()
+            .copied()
+            .filter(|&k| clustering.clusters[k].len() == 1)
+            .collect();
+        let pool = if singles.is_empty() {
+            candidates
+        } else {
+            &singles
+        };
+        let chosen = pool[context.rng.index(pool.len())];
         let members = &clustering.clusters[chosen];
         let together = self
             .multi
@@ -158,7 +308,7 @@ impl Policy {
             Some(grasp) => Some(grasp),
             None => self.single.plan_avoiding(observed, members, &avoid)?.value,
         };
-        Ok((grasp.map(|grasp| (Some(chosen), grasp)), waiting))
+        Ok((grasp.map(|grasp| (Some(chosen), grasp)), unformed))
     }
 
     /// `grasp` planned again on `predicted` (the table after pushes elsewhere), its jaws offered

@@ -240,6 +240,14 @@ impl PolicySettings {
         s.milp.heuristic = s.clustering.clone();
         s.milp.min_push = s.min_push;
         s.milp.row_margin = s.socp.margin;
+        // With flush pushes the clustering proposes only pairs a flush push lines up (cleared
+        // again by the builder when the policy's pushes are not the SOCP's).
+        s.milp.flush_pairs = s.socp.flush.then_some(crate::cluster::FlushPairs {
+            straddle: s.socp.straddle,
+            margin: s.socp.flush_margin,
+            cone: s.socp.flush_cone,
+            tight: s.socp.flush_gap,
+        });
         s.pushing.fork = s.fork.clone();
         s.pushing.min_push = s.min_push;
         s.socp.model = s.grasp_model.clone();
@@ -415,7 +423,12 @@ impl PolicyBuilder {
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn build(self) -> Result<Policy> {
         self.settings.validate()?;
-        let settings = self.settings.effective();
+        let mut settings = self.settings.effective();
+        // The clustering's pair test follows flush pushes only when the SOCP makes the pushes.
+        let pusher_kind = self.parts.1.unwrap_or(self.kind.pusher());
+        if self.pusher.is_some() || pusher_kind != PusherKind::Socp {
+            settings.milp.flush_pairs = None;
+        }
         let multi = multi_object(&settings)?;
         let clusterer = match self.clusterer {
             Some(chosen) => chosen,

@@ -55,48 +55,46 @@ pub struct SuccessBand {
 pub struct Pricing {
     /// What decisions to push aim at. Default `objects_per_trip`.
     pub objective: TripObjective,
-    /// Calibration of the grasp judge after pushes, by increasing `judged`. Default, fitted in the
-    /// simulator with noise on training scenes no experiment uses, the judge at 16 samples with push
-    /// noise 4 mm and 0.05 rad (`formulations/picks-per-hour.md`): judged 1, 0.806, on the 108
-    /// clusters the priced policy itself pushed (scenes 5001-5100 and 7001-7100); judged below 1,
-    /// 0.738, on 450 clusters of push-mog-opt pushing every cluster it can (scenes 5001-5100; the
-    /// priced policy never pushes those, so its own runs cannot fit them).
+    /// Calibration of the grasp judge after pushes made in the trip of their grasp, by increasing
+    /// `judged`. Default, fitted in the simulator with noise on training scenes no experiment uses,
+    /// for flush pushes (`socp.flush`) and the default judge (`formulations/picks-per-hour.md`):
+    /// judged below 1, 0.784 (37 clusters), judged 1, 0.923 (678), of push-mog-opt pushing every
+    /// cluster it can in the trip (scenes 5001-5100; the priced policy pushing ahead makes no
+    /// pushes in the trip there, so its own runs cannot fit these).
     pub success: Vec<SuccessBand>,
-    /// Expected rounds of corrective pushes after a trip's pushes. Default 0.018, from the priced
-    /// policy's own 108 pushed clusters.
+    /// Expected rounds of corrective pushes after a trip's pushes. Default 0.041, from the same
+    /// 715 clusters.
     pub corrections: f64,
-    /// Calibration for rows pushed ahead (`push_ahead`): the probability that the next trip carries
-    /// the row together, by judged probability. Default: one band, 0.709, fitted on the 522 rows
-    /// push-mog-time itself pushed on the same training scenes; split by the judge, its rows judged
-    /// below 1 came out more often than those judged 1 on both scene sets, so the split carries no
-    /// information there (`formulations/picks-per-hour.md`).
+    /// Calibration for rows pushed ahead (`push_ahead`): the probability that the trip that next
+    /// grasps or pushes a row's objects takes the whole row, by judged probability. Default, fitted
+    /// on the rows push-mog-time (flush pushes, default judge, pushing ahead) itself pushed on
+    /// scenes 5001-5100 and 7001-7100: judged below 1, 0.778 (153 rows); judged 1, 0.852 (2049).
     pub ahead_success: Vec<SuccessBand>,
     /// Push clusters ahead: each trip grasps one cluster as it lies and, before that grasp, pushes
     /// another into a row for a later trip, whose look shows the row (`policy/ahead.rs`). Default
     /// false.
     pub push_ahead: bool,
+    /// Most rows one trip pushes ahead (`push_ahead`), each only when it pays with what it adds to
+    /// the trip's commands; a trip pushes ahead only when no row pushed before still waits. Rows
+    /// pushed together share the jaw commands and the travel to and from the table, so a second
+    /// row in a trip costs about 7.2 s against 9.1 s for the first (`formulations/picks-per-hour.md`).
+    /// Default 12: no trip on tables of 34 objects has more rows worth pushing.
+    pub ahead_rows: usize,
 }
 
 impl Default for Pricing {
     fn default() -> Self {
+        let band = |judged, carried_all| SuccessBand {
+            judged,
+            carried_all,
+        };
         Self {
             objective: TripObjective::ObjectsPerTrip,
-            success: vec![
-                SuccessBand {
-                    judged: 0.0,
-                    carried_all: 0.738,
-                },
-                SuccessBand {
-                    judged: 0.999,
-                    carried_all: 0.806,
-                },
-            ],
-            corrections: 0.018,
-            ahead_success: vec![SuccessBand {
-                judged: 0.0,
-                carried_all: 0.709,
-            }],
+            success: vec![band(0.0, 0.784), band(0.999, 0.923)],
+            corrections: 0.041,
+            ahead_success: vec![band(0.0, 0.778), band(0.999, 0.852)],
             push_ahead: false,
+            ahead_rows: 12,
         }
     }
 }
@@ -109,6 +107,13 @@ impl Pricing {
     pub fn validate(&self) -> Result<()> {
         validate_bands("success", &self.success)?;
         validate_bands("ahead_success", &self.ahead_success)?;
+        crate::error::count_in_range(
+            "pricing",
+            "ahead_rows",
+            self.ahead_rows,
+            (1, 20),
+            "each row is a push plan and a grasp judged in the trip's planning",
+        )?;
         crate::error::in_range(
             "pricing",
             "corrections",
@@ -137,22 +142,25 @@ impl Pricing {
     /// Expected robot seconds saved by making `pushes` for `grasp` (judged `judged` by the grasp
     /// planner) instead of taking `taken` objects as they lie (module docs); `ahead` is the grasp
     /// the trip makes after pushes ahead (another cluster's; `None`: the trip makes `grasp`
-    /// itself), and `look` whether the loop looks at the table after pushing (never after pushes
-    /// ahead).
+    /// itself), `earlier` the pushes ahead of other rows the trip makes before these (their
+    /// seconds are not charged again: only what `pushes` add to the trip), and `look` whether the
+    /// loop looks at the table after pushing (never after pushes ahead).
     pub fn saving(
         &self,
         model: &TimeModel,
         gripper: &Gripper,
-        (pushes, grasp, ahead): (&[Push], &Grasp, Option<&Grasp>),
+        (pushes, earlier, grasp, ahead): (&[Push], &[Push], &Grasp, Option<&Grasp>),
         judged: f64,
         taken: usize,
         look: bool,
     ) -> f64 {
-        let paths = push_paths(pushes);
         let jaws = grasp_path(ahead.unwrap_or(grasp), gripper);
         let look = if look { model.look_seconds() } else { 0.0 };
-        let pushing =
-            model.trip_seconds(gripper, &paths, &jaws) - model.trip_seconds(gripper, &[], &jaws);
+        let before = push_paths(earlier);
+        let mut paths = before.clone();
+        paths.extend(push_paths(pushes));
+        let pushing = model.trip_seconds(gripper, &paths, &jaws)
+            - model.trip_seconds(gripper, &before, &jaws);
         let mean = pushes.iter().map(|p| p.distance).sum::<f64>() / pushes.len().max(1) as f64;
         let correcting = model.nominal_later_push_seconds(mean) + look;
         let single = model.nominal_trip_seconds(gripper) + model.look_seconds();
@@ -214,6 +222,79 @@ pub fn grasp_path(grasp: &Grasp, gripper: &Gripper) -> GraspPath {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grasp::JawPose;
+    use crate::push::ForkPush;
+    use crate::scene::{ObjectId, Pose};
+    use nalgebra::{Point2, Vector2};
+
+    /// A flush push (jaws closed to one block) of 30 mm along +x of an object at (x, y).
+    fn push(id: u32, x: f64, y: f64) -> Push {
+        Push {
+            object: ObjectId(id),
+            from: Pose::new(x, y, 0.0),
+            to: Pose::new(x + 0.03, y, 0.0),
+            direction: Vector2::x(),
+            distance: 0.03,
+            fork: ForkPush {
+                approach: Point2::new(x - 0.03, y),
+                contact: Point2::new(x - 0.02, y),
+                end: Point2::new(x + 0.01, y),
+                jaw_angle: std::f64::consts::FRAC_PI_2,
+                opening: 0.011,
+                height: Some(0.015),
+            },
+        }
+    }
+
+    fn grasp(ids: &[u32], x: f64, y: f64) -> Grasp {
+        Grasp {
+            jaws: JawPose {
+                center: Point2::new(x, y),
+                angle: 0.0,
+                opening: 0.085,
+            },
+            objects: ids.iter().copied().map(ObjectId).collect(),
+            width: 0.06,
+            margin: 0.01,
+        }
+    }
+
+    #[test]
+    fn a_second_row_pushed_in_the_same_trip_costs_less_than_the_first() {
+        let (model, gripper) = (TimeModel::default(), Gripper::default());
+        let pricing = Pricing::default();
+        let trip_grasp = grasp(&[9], 0.3, 0.3);
+        let (first, second) = (push(0, 0.2, 0.2), push(2, 0.2, 0.1));
+        let (row_a, row_b) = (grasp(&[0, 1], 0.25, 0.2), grasp(&[2, 3], 0.25, 0.1));
+        let alone = pricing.saving(
+            &model,
+            &gripper,
+            (std::slice::from_ref(&first), &[], &row_a, Some(&trip_grasp)),
+            1.0,
+            1,
+            false,
+        );
+        let after = pricing.saving(
+            &model,
+            &gripper,
+            (
+                std::slice::from_ref(&second),
+                std::slice::from_ref(&first),
+                &row_b,
+                Some(&trip_grasp),
+            ),
+            1.0,
+            1,
+            false,
+        );
+        // Both gain one trip with the same probability; the second sends no jaw command of its own
+        // (the jaws stand at the block already) and its travel replaces part of the first's.
+        let jaw = (gripper.stroke - 0.011) / model.jaw_speed + model.gripper_settle;
+        assert!(after - alone > 0.5 * jaw, "{alone} then {after}");
+        let expected = pricing.carried_all(1.0, true)
+            * (model.nominal_trip_seconds(&gripper) + model.look_seconds());
+        assert!(alone < expected && after < expected);
+    }
 
     #[test]
     fn the_calibration_reads_the_highest_band_reached() {

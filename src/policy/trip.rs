@@ -87,9 +87,9 @@ pub struct TripContext {
     pub failed_together: Vec<Vec<ObjectId>>,
     /// Pushes during whose descent a finger came down on an object.
     pub landed: Vec<Landing>,
-    /// The objects a trip pushed ahead into a row for a later trip's grasp
-    /// (`pricing.push_ahead`); empty when none waits.
-    pub ahead: Vec<ObjectId>,
+    /// The rows trips pushed ahead for later trips' grasps (`pricing.push_ahead`), each its
+    /// objects, in the order they were pushed; empty when none waits.
+    pub ahead: Vec<Vec<ObjectId>>,
 }
 
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
@@ -409,7 +409,8 @@ impl Policy {
     /// taken by itself there (no object is stranded), and no push lowers its fingers near an unseen
     /// object a push of the same object `landed` on; under the expected-time objective, also only
     /// when the pushes are expected to save time over taking `taken` objects as they lie, with a
-    /// look after them or not (`look`), the trip then making `then` (pushing ahead) or the grasp
+    /// look after them or not (`look`), the trip then making `then` (pushing ahead: the pushes of
+    /// rows already planned for the trip, made after these, and the trip's grasp) or the grasp
     /// after the pushes ([`super::Pricing::saving`]). With the pushes that were planned and not
     /// made, and why.
     pub(super) fn push_draft(
@@ -418,7 +419,7 @@ impl Policy {
         observed: &Scene,
         members: &[ObjectId],
         context: &TripContext,
-        (taken, look, then): (usize, bool, Option<&Grasp>),
+        (taken, look, then): (usize, bool, Option<(&[Push], &Grasp)>),
     ) -> Result<(Option<PushesThenGrasp>, Vec<SkippedPush>)> {
         let (avoid, landed) = (&context.failed, &context.landed);
         let plan = self.plan_pushes(pusher, observed, members)?;
@@ -450,9 +451,13 @@ impl Policy {
                     .copied()
                     .filter(|id| !grasp.objects.contains(id))
                     .collect();
+                let (earlier, then): (&[Push], _) = match then {
+                    Some((earlier, grasp)) => (earlier, Some(grasp)),
+                    None => (&[], None),
+                };
                 let saving = self.saving(
                     observed,
-                    (&plan.pushes, &grasp, then),
+                    (&plan.pushes, earlier, &grasp, then),
                     &outcome.stats,
                     (taken, look),
                 );
@@ -571,7 +576,7 @@ impl Policy {
     fn saving(
         &self,
         observed: &Scene,
-        planned: (&[Push], &Grasp, Option<&Grasp>),
+        planned: (&[Push], &[Push], &Grasp, Option<&Grasp>),
         judged: &Stats,
         (taken, look): (usize, bool),
     ) -> Option<f64> {
@@ -667,11 +672,12 @@ fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
     }
     let gripper = observed.gripper();
     let fingers = |push: &Push| {
+        let jaw = push.fork.jaw_angle;
         finger_footprints(
             gripper,
             push.fork.opening,
             &push.fork.approach,
-            &push.direction,
+            &Vector2::new(jaw.sin(), -jaw.cos()),
         )
     };
     let before = fingers(&landing.push);

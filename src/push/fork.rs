@@ -128,14 +128,15 @@ impl ForkSettings {
     }
 }
 
-/// The two finger footprints for a gripper centred at `centre` pushing along the unit vector `push`.
+/// The two finger footprints for a gripper centred at `centre` whose fingers face the unit vector
+/// `facing` (the push direction, or a flush push's face normal): the jaw line is perpendicular to it.
 pub fn finger_footprints(
     gripper: &Gripper,
     opening: f64,
     centre: &Point2<f64>,
-    push: &Vector2<f64>,
+    facing: &Vector2<f64>,
 ) -> [ConvexPolygon; 2] {
-    let jaw_line = Vector2::new(-push.y, push.x);
+    let jaw_line = Vector2::new(-facing.y, facing.x);
     let half_along = gripper.plate_thickness / 2.0;
     let half_across = gripper.plate_length / 2.0;
     [1.0, -1.0].map(|side| {
@@ -202,6 +203,33 @@ pub fn plan_fork(
     distance: f64,
     opening: f64,
 ) -> std::result::Result<ForkPush, SkipReason> {
+    plan_fork_facing(
+        gripper,
+        settings,
+        world,
+        ids,
+        pushed,
+        height,
+        (push, push),
+        distance,
+        opening,
+    )
+}
+
+/// [`plan_fork`] with the fingers facing the unit vector `facing` while they move along `push`: a
+/// flush push at an angle to its face's normal keeps the jaw line along the face (`push::flush`).
+#[allow(clippy::too_many_arguments)]
+pub fn plan_fork_facing(
+    gripper: &Gripper,
+    settings: &ForkSettings,
+    world: &[ConvexPolygon],
+    ids: &[ObjectId],
+    pushed: usize,
+    height: f64,
+    (push, facing): (&Vector2<f64>, &Vector2<f64>),
+    distance: f64,
+    opening: f64,
+) -> std::result::Result<ForkPush, SkipReason> {
     let object = &world[pushed];
     let centroid = object.centroid();
     let Some(tip_height) = push_height(settings, object, height) else {
@@ -209,7 +237,7 @@ pub fn plan_fork(
     };
     let reach = object.radius_about(&centroid) + gripper.plate_length + opening + 0.01;
     let far = centroid - push * reach;
-    let touch = finger_footprints(gripper, opening, &far, push)
+    let touch = finger_footprints(gripper, opening, &far, facing)
         .iter()
         .filter_map(|finger| cast_distance(finger, push, 2.0 * reach, object))
         .fold(f64::INFINITY, f64::min);
@@ -222,7 +250,7 @@ pub fn plan_fork(
     // brings them nearer (convex outlines).
     let margin = settings.finger_clearance;
     let clear_of_object = |back: f64| {
-        finger_footprints(gripper, opening, &(contact - push * back), push)
+        finger_footprints(gripper, opening, &(contact - push * back), facing)
             .iter()
             .all(|finger| {
                 crate::geometry::distance(finger, object) >= settings.approach_clearance - 1e-9
@@ -240,7 +268,7 @@ pub fn plan_fork(
     let approach = contact - push * back;
     let end = contact + push * distance;
     let travel = back + distance;
-    let fingers = finger_footprints(gripper, opening, &approach, push);
+    let fingers = finger_footprints(gripper, opening, &approach, facing);
     let swept: Vec<_> = fingers
         .iter()
         .map(|f| f.swept_box(&(push * travel)))
@@ -266,7 +294,7 @@ pub fn plan_fork(
             return Err(SkipReason::FingersHit { object: ids[index] });
         }
     }
-    let jaw_line = Vector2::new(-push.y, push.x);
+    let jaw_line = Vector2::new(-facing.y, facing.x);
     Ok(ForkPush {
         approach,
         contact,

@@ -8,8 +8,11 @@
 //! program of least total push distance (`formulations/pushing.md`); [`predict`] moves objects to their
 //! targets, as the paper does to plan the grasp before executing the pushes; [`separating_push`]
 //! moves an object away from a neighbour it is stuck against, so one of them can be taken alone.
+//! [`flush`] holds the geometry of flush pushes, which meet one face of the object flat so that it
+//! slides without turning (the SOCP's `flush` setting).
 
 mod central;
+pub mod flush;
 pub mod fork;
 mod predict;
 mod row;
@@ -103,6 +106,9 @@ pub enum SkipReason {
     /// A push to separate the object from a neighbour it is stuck against would meet another object,
     /// or leave it too near the workspace's edge.
     NoRoomToSeparate,
+    /// With flush pushes (`socp.flush`), no face of the object lies flat across the push with room
+    /// for the fingers, so the push would turn it.
+    NotFlush,
     /// Planned, but by the expected-time price (`formulations/picks-per-hour.md`) the pushes and the
     /// look after them cost more seconds than the trips they are expected to save.
     DoesNotPay {
@@ -123,6 +129,7 @@ impl std::fmt::Display for SkipReason {
             Self::NoFingerContact => write!(f, "the object fits between the fingers"),
             Self::NoRow => write!(f, "no row of the cluster fits the jaws"),
             Self::WouldTip => write!(f, "it would tip over rather than slide"),
+            Self::NotFlush => write!(f, "no face of it lies flat across the push"),
             Self::NoGraspAfter => write!(f, "no multi-object grasp after the pushes"),
             Self::DoesNotPay { saving } => {
                 write!(

@@ -15,6 +15,7 @@
 //!             |v·p_i − c| ≤ τ                                            (centroids near that line)
 //!             n_iq·p_i ≥ β_iq                                            (clear of outside object q)
 //!             workspace bounds on p_i (an edge margin inside),  p_i = p_i⁰ for objects held fixed
+//!             p_i − p_i⁰ within `cone` of n_i, for objects pushed flush on a face of normal n_i
 //! ```
 //!
 //! It is solved by clarabel (an interior-point method for conic programs); its status is kept.
@@ -23,6 +24,7 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::{Point2, Vector2};
 
+use super::flush::turned;
 use crate::geometry::ConvexPolygon;
 use crate::scene::Workspace;
 
@@ -61,6 +63,35 @@ pub(super) struct RowProblem<'a> {
     pub straddle: f64,
     /// How far a centroid may lie from the plates' centre line, metres.
     pub centring: f64,
+}
+
+/// How each member may move in one row: held where it is (`fixed`), pushed only within the cone
+/// about a face's inward normal (`along`: a flush push), or anywhere; and, for flush pairs pushed
+/// tight, a shorter row than the jaws allow (`limit`).
+#[derive(Clone, Debug)]
+pub(super) struct Motion {
+    pub fixed: Vec<bool>,
+    pub along: Vec<Option<Vector2<f64>>>,
+    pub limit: Option<f64>,
+}
+
+impl Motion {
+    /// Every one of `k` members free.
+    pub fn free(k: usize) -> Self {
+        Self {
+            fixed: vec![false; k],
+            along: vec![None; k],
+            limit: None,
+        }
+    }
+
+    /// The same motion with the members in `fixed` held.
+    pub fn holding(&self, fixed: &[bool]) -> Self {
+        Self {
+            fixed: fixed.to_vec(),
+            ..self.clone()
+        }
+    }
 }
 
 /// One solve's answer.
@@ -171,13 +202,21 @@ impl Rows {
 }
 
 /// Solves the row program for closing axis `axis` (unit), member `order` along it, with the members in
-/// `fixed` held where they are.
+/// `motion.fixed` held where they are and every other member `i` with `motion.along[i] = Some(n)`
+/// moved only within `cone` radians of the unit vector `n` (a flush push on the face of inward
+/// normal `n`, [`super::flush`]): `p_i − p_i⁰` between the cone's edges `n₋` and `n₊` (`n` turned
+/// by `∓cone`), `n₋⊥·(p_i − p_i⁰) ≥ 0` and `−n₊⊥·(p_i − p_i⁰) ≥ 0`; for `cone = 0`, along `n`
+/// only: `n⊥·(p_i − p_i⁰) = 0` and `n·(p_i − p_i⁰) ≥ 0`. The row may span `motion.limit` when
+/// given, else the problem's limit.
 pub(super) fn solve_row(
     problem: &RowProblem<'_>,
     axis: &Vector2<f64>,
     order: &[usize],
-    fixed: &[bool],
+    motion: &Motion,
+    cone: f64,
 ) -> RowSolution {
+    let (fixed, flush) = (&motion.fixed, &motion.along);
+    let row_limit = motion.limit.unwrap_or(problem.row_limit);
     let k = problem.starts.len();
     let across = Vector2::new(-axis.y, axis.x);
     // Columns: p_i = (2i, 2i+1), t_i = 2k + i, c = 3k.
@@ -199,6 +238,23 @@ pub(super) fn solve_row(
         zero.push(&[(py(i), 1.0)], problem.starts[i].y);
     }
     let mut inequalities = Rows::new();
+    let left = |d: &Vector2<f64>| Vector2::new(-d.y, d.x);
+    for (i, normal) in flush.iter().enumerate() {
+        let Some(n) = normal.filter(|_| !fixed[i]) else {
+            continue;
+        };
+        let start = problem.starts[i].coords;
+        if cone > 0.0 {
+            // Counter-clockwise of n₋ and clockwise of n₊: −n₋⊥·p ≤ −n₋⊥·p⁰, n₊⊥·p ≤ n₊⊥·p⁰.
+            let (low, high) = (left(&turned(&n, -cone)), left(&turned(&n, cone)));
+            inequalities.push(&along(i, &low, -1.0), -low.dot(&start));
+            inequalities.push(&along(i, &high, 1.0), high.dot(&start));
+        } else {
+            let across = left(&n);
+            zero.push(&along(i, &across, 1.0), across.dot(&start));
+            inequalities.push(&along(i, &n, -1.0), -n.dot(&start));
+        }
+    }
     for pair in order.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         let needed = support(a, axis) + support(b, &-axis) + problem.gap;
@@ -207,7 +263,7 @@ pub(super) fn solve_row(
         inequalities.push(&terms, -needed);
     }
     if let (Some(&first), Some(&last)) = (order.first(), order.last()) {
-        let limit = problem.row_limit - support(last, axis) - support(first, &-axis);
+        let limit = row_limit - support(last, axis) - support(first, &-axis);
         let mut terms = along(last, axis, 1.0).to_vec();
         terms.extend(along(first, axis, -1.0));
         inequalities.push(&terms, limit);

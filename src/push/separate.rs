@@ -15,6 +15,7 @@
 
 use nalgebra::Vector2;
 
+use super::flush::CLOSED_GAP;
 use super::fork::{ForkSettings, plan_fork};
 use super::{Push, SkipReason};
 use crate::geometry::{ConvexPolygon, cast_distance, penetration_depth};
@@ -83,9 +84,6 @@ pub fn separating_push(
         fork,
     })
 }
-
-/// Gap between the plates when pushing with the gripper closed, metres.
-const CLOSED_GAP: f64 = 0.001;
 
 /// Spacing of the checks against the neighbour along a separating push, metres.
 const PATH_STEP: f64 = 0.0005;
