@@ -292,6 +292,7 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
             grasp: trip.grasp,
             judged: trip.judged,
             ahead: trip.ahead,
+            ahead_rows: trip.ahead_rows,
             carried,
             fault: None,
             lost: Vec::new(),

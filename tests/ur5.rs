@@ -152,8 +152,20 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
         run.trips.iter().any(|t| t.pushes.len() >= 2),
         "a trip with two pushes or more"
     );
+    // push-mog-time: flush pushes with the jaws closed to one block, several rows pushed ahead in
+    // one trip.
+    let mut settings = PolicySettings::default();
+    settings.socp.flush = true;
+    settings.pricing.objective = pushmog::policy::TripObjective::ExpectedTime;
+    settings.pricing.push_ahead = true;
+    let time = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let ahead = time.run(&scene, &mut time.ideal(), 4).unwrap();
+    assert!(
+        ahead.trips.iter().any(|t| t.pushes.len() >= 2),
+        "a trip pushing two rows ahead or more"
+    );
     let mut jaws_left_out = 0;
-    for plan in [fixture_plan(), run] {
+    for plan in [fixture_plan(), run, ahead] {
         for (t, trip) in plan.trips.iter().enumerate() {
             let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();

@@ -55,7 +55,7 @@ def pushed_trips(plan):
     carried at least that many. A row pushed ahead (the trip's `ahead` objects that one cluster of
     its clustering holds; a trip may push several) succeeds when the first later trip that grasps
     or pushes any of its objects grasps the whole row and carries it; pushed again first, it
-    failed. Every row of a trip is counted with the trip's `judged`, which is its first row's."""
+    failed. Each row is counted with its own judged probability (`ahead_rows`)."""
     trips = plan["trips"]
     for k, trip in enumerate(trips):
         if trip.get("judged") is None:
@@ -67,8 +67,12 @@ def pushed_trips(plan):
             planned = len(trip["grasp"]["objects"])
             yield trip["judged"], planned >= 2 and len(trip["carried"]) >= planned, rounds, False
             continue
-        rows = [set(c) & ahead for c in trip["clustering"]["clusters"] if set(c) & ahead]
-        for row in rows:
+        # Each row with its own judged probability; plans written before rows were recorded give
+        # the trip's clusters holding objects pushed ahead, each with the trip's `judged`.
+        rows = [(set(r["objects"]), r["judged"]) for r in trip.get("ahead_rows", [])] or \
+            [(set(c) & ahead, trip["judged"])
+             for c in trip["clustering"]["clusters"] if set(c) & ahead]
+        for row, judged in rows:
             outcome = False
             for later in trips[k + 1:]:
                 grasped = set(later["grasp"]["objects"])
@@ -77,7 +81,7 @@ def pushed_trips(plan):
                     break
                 if {p["object"] for p in later["pushes"]} & row:
                     break
-            yield trip["judged"], outcome, 0, True
+            yield judged, outcome, 0, True
 
 
 def fitted_bands(pushmog):

@@ -14,9 +14,10 @@ import pushmog
 
 
 def trip_fields(trip: dict) -> dict:
-    """A run record's trip without what the executor reports (``judged`` and ``ahead`` only when
-    the plan has them, as in plan files)."""
-    keys = ("clustering", "cluster", "pushes", "skipped_pushes", "grasp", "judged", "ahead")
+    """A run record's trip without what the executor reports (``judged``, ``ahead`` and
+    ``ahead_rows`` only when the plan has them, as in plan files)."""
+    keys = ("clustering", "cluster", "pushes", "skipped_pushes", "grasp", "judged", "ahead",
+            "ahead_rows")
     return {k: trip[k] for k in keys if k in trip}
 
 

@@ -21,7 +21,7 @@ use serde::de::{Error as _, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::shared::{Lookup, SharedScene};
-use super::{Fault, Look, LostObject, Trip};
+use super::{AheadRow, Fault, Look, LostObject, Trip};
 use crate::cluster::Clustering;
 use crate::grasp::Grasp;
 use crate::push::{Push, SkippedPush};
@@ -77,6 +77,9 @@ pub struct TripRecord {
     /// As [`Trip::ahead`].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead: Vec<ObjectId>,
+    /// As [`Trip::ahead_rows`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead_rows: Vec<AheadRow>,
     /// As [`Trip::carried`].
     pub carried: Vec<ObjectId>,
     /// As [`Trip::fault`].
@@ -187,6 +190,7 @@ fn record(trips: &[Trip], k: usize) -> TripRecord {
         grasp: trip.grasp.clone(),
         judged: trip.judged,
         ahead: trip.ahead.clone(),
+        ahead_rows: trip.ahead_rows.clone(),
         carried: trip.carried.clone(),
         fault: trip.fault,
         lost: trip.lost.clone(),
@@ -262,6 +266,7 @@ fn trip(
         grasp: record.grasp,
         judged: record.judged,
         ahead: record.ahead,
+        ahead_rows: record.ahead_rows,
         carried: record.carried,
         fault: record.fault,
         lost: record.lost,

@@ -49,10 +49,14 @@ pub struct Trip {
     /// that the grasp its first pushes prepare carries all its objects (pushed trips only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub judged: Option<f64>,
-    /// As the policy's `TripPlan::ahead`: the objects this trip's pushes arranged for a later
-    /// trip's grasp (pushing ahead); the trip made no look for them.
+    /// As the policy's `TripPlan::ahead`: the objects this trip's pushes arranged for later
+    /// trips' grasps (pushing ahead); the trip made no look for them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead: Vec<ObjectId>,
+    /// As the policy's `TripPlan::ahead_rows`: those objects row by row, each with its grasp's
+    /// judged probability (absent in plans written before rows were recorded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead_rows: Vec<AheadRow>,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
     /// Set when an action was stopped because the gripper came down on an object; the rest of the
@@ -64,6 +68,17 @@ pub struct Trip {
     /// observation that followed it. Empty with the ideal executor.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lost: Vec<LostObject>,
+}
+
+/// A row a trip pushed ahead for a later trip's grasp.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AheadRow {
+    /// The objects a later grasp is planned to take together.
+    pub objects: Vec<ObjectId>,
+    /// The grasp planner's estimate that such a grasp carries them all, on the table predicted
+    /// after the trip's pushes.
+    pub judged: f64,
 }
 
 /// An object that is still somewhere but can no longer be planned for, and why.

@@ -18,6 +18,8 @@
 //!   width is positive and at most both the sum of their diameters (objects may turn while the jaws
 //!   close) and the gap between the open plates (the plates are short, so they may close past parts
 //!   of objects beside them);
+//! - **pushes ahead**: the grasp takes no object the trip pushed ahead for a later trip, and the
+//!   rows pushed ahead hold exactly those objects;
 //! - **the record** ([`verify_record`]): times, objects carried once, tables that chain from trip to
 //!   trip, and a status that agrees with what is left.
 
@@ -249,6 +251,19 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     };
     let mut found = Vec::new();
     check_clustering(&scene, trip, &mut found);
+    if !trip.ahead_rows.is_empty() {
+        let mut rows: Vec<ObjectId> = trip
+            .ahead_rows
+            .iter()
+            .flat_map(|r| r.objects.clone())
+            .collect();
+        let mut ahead = trip.ahead.clone();
+        rows.sort_unstable();
+        ahead.sort_unstable();
+        if rows != ahead {
+            found.push("the rows pushed ahead do not hold exactly the objects pushed ahead".into());
+        }
+    }
     if let Some(id) = trip.ahead.iter().find(|id| trip.grasp.objects.contains(id)) {
         found.push(format!(
             "grasp: takes object {id}, which the trip pushed ahead for a later trip"

@@ -1,21 +1,25 @@
 //! Pushing ahead (`pricing.push_ahead`): a trip grasps one cluster as it lies and, before that grasp,
-//! pushes another cluster into a row for a later trip. The look before the next trip, which every
-//! trip makes anyway, shows how the pushed row came out, so the pushes need no look of their own:
-//! by the time model a one-push pair then costs its push alone (about 7.9 s) instead of the push and a
-//! look (about 9.6 s), and the pushes of a second cluster in the same trip would find the jaws at the
-//! fork opening already (`formulations/picks-per-hour.md`).
+//! pushes other clusters into rows for later trips. The look before the next trip, which every
+//! trip makes anyway, shows how the pushed rows came out, so the pushes need no look of their own:
+//! by the time model a one-push pair then costs its push alone instead of the push and a look, and
+//! rows pushed in the same trip share its jaw commands: a second row adds about 8 s where the first
+//! adds about 9.5 s (`formulations/picks-per-hour.md`).
 //!
 //! Each trip, in order:
-//! 1. the grasp: the row the last trip pushed ahead, grasped as it now lies when the multi-object
-//!    planner finds a grasp of two or more of it; otherwise a single object chosen at random (a
-//!    cluster chosen at random when none is left), grasped as it lies (two or more together, else
-//!    one by itself), and the row that did not come out is the first tried for pushes ahead
-//!    again;
-//! 2. the pushes ahead: other clusters of two or more, nearest the grasp first (at most
-//!    [`AHEAD_TRIES`] tried), the first whose pushes are planned with a multi-object grasp after
-//!    them, pay by the price without a look and with the travel from them to the trip's grasp
-//!    (under the expected-time objective), move nothing the trip's grasp takes, and leave that grasp
-//!    standing on the table predicted after them (it is planned again there).
+//! 1. the grasp: a row pushed ahead before, grasped as it now lies when the multi-object planner
+//!    finds a grasp of two or more of it (the rows in the order they were pushed; those tried and
+//!    refused did not come out); otherwise a single object chosen at random (a cluster chosen at
+//!    random when none is left), grasped as it lies (two or more together, else one by itself);
+//! 2. the pushes ahead, only when no row pushed before still waits for its grasp: other clusters of
+//!    two or more, the rows that did not come out first, then the rest along a chain from the
+//!    trip's grasp (the nearest cluster to it, the nearest to that, and so on), at most
+//!    [`AHEAD_TRIES`] + `ahead_rows` − 1 tried. Each is planned on the table predicted after the
+//!    pushes kept before it and kept when its pushes are planned with a multi-object grasp after
+//!    them, pay by the price for what they add to the trip (no look, the travel through them to the
+//!    trip's grasp, under the expected-time objective), move nothing the trip's grasp or a row kept
+//!    before takes, and leave that grasp and every row kept before graspable on the table predicted
+//!    after them; at most `ahead_rows` rows. When two or more are kept, the same rows are planned
+//!    again from the chain's far end, and that order is made when the trip is then shorter.
 //!
 //! When the cluster chosen in step 1 cannot be grasped as it lies, the trip is planned as without
 //! pushing ahead.
@@ -26,6 +30,7 @@ use super::{grasp_path, push_paths};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::grasp::Grasp;
+use crate::plan::AheadRow;
 use crate::push::{Push, SkippedPush, predict};
 use crate::scene::{ObjectId, Scene};
 
@@ -33,13 +38,13 @@ use crate::scene::{ObjectId, Scene};
 type ChosenGrasp = (Option<usize>, Grasp);
 
 /// The rows one trip pushes ahead: its pushes in order, each row's objects and the cluster members
-/// it was planned from, the judged probability of the first row's grasp, the trip's own grasp
-/// planned again on the table predicted after the pushes, and the pushes planned and not made.
+/// it was planned from, the judged probability of each row's grasp, the trip's own grasp planned
+/// again on the table predicted after the pushes, and the pushes planned and not made.
 struct Batch {
     pushes: Vec<Push>,
     rows: Vec<Vec<ObjectId>>,
     members: Vec<Vec<ObjectId>>,
-    judged: Option<f64>,
+    judged: Vec<f64>,
     standing: Grasp,
     skipped: Vec<SkippedPush>,
 }
@@ -72,6 +77,7 @@ impl Policy {
             grasp,
             judged: None,
             ahead: Vec::new(),
+            ahead_rows: Vec::new(),
         };
         // Rows pushed before still wait for their grasps: the next rows are pushed together once
         // none waits.
@@ -146,6 +152,15 @@ impl Policy {
             return Ok(Some(plain(grasp, batch.skipped)));
         }
         let ahead = batch.rows.iter().flatten().copied().collect();
+        let ahead_rows = batch
+            .rows
+            .iter()
+            .zip(&batch.judged)
+            .map(|(objects, &judged)| AheadRow {
+                objects: objects.clone(),
+                judged,
+            })
+            .collect();
         context.ahead = batch.rows;
         Ok(Some(TripPlan {
             clustering: clustering.clone(),
@@ -153,8 +168,9 @@ impl Policy {
             pushes: batch.pushes,
             skipped_pushes: batch.skipped,
             grasp: batch.standing,
-            judged: batch.judged,
+            judged: batch.judged.first().copied(),
             ahead,
+            ahead_rows,
         }))
     }
 
@@ -175,7 +191,7 @@ impl Policy {
             pushes: Vec::new(),
             rows: Vec::new(),
             members: Vec::new(),
-            judged: None,
+            judged: Vec::new(),
             standing: grasp.clone(),
             skipped: Vec::new(),
         };
@@ -222,7 +238,7 @@ impl Policy {
             (batch.pushes, table, batch.standing) = (all, predicted, again);
             batch.rows.push(later.objects);
             batch.members.push(members.clone());
-            batch.judged.get_or_insert(judged);
+            batch.judged.push(judged);
         }
         Ok(batch)
     }

@@ -68,7 +68,8 @@ pub struct Pricing {
     /// Calibration for rows pushed ahead (`push_ahead`): the probability that the trip that next
     /// grasps or pushes a row's objects takes the whole row, by judged probability. Default, fitted
     /// on the rows push-mog-time (flush pushes, default judge, pushing ahead) itself pushed on
-    /// scenes 5001-5100 and 7001-7100: judged below 1, 0.778 (153 rows); judged 1, 0.852 (2049).
+    /// scenes 5001-5100 and 7001-7100, each row by its own judged probability: judged below 1,
+    /// 0.605 (86 rows); judged 1, 0.854 (2085).
     pub ahead_success: Vec<SuccessBand>,
     /// Push clusters ahead: each trip grasps one cluster as it lies and, before that grasp, pushes
     /// another into a row for a later trip, whose look shows the row (`policy/ahead.rs`). Default
@@ -92,7 +93,7 @@ impl Default for Pricing {
             objective: TripObjective::ObjectsPerTrip,
             success: vec![band(0.0, 0.784), band(0.999, 0.923)],
             corrections: 0.041,
-            ahead_success: vec![band(0.0, 0.778), band(0.999, 0.852)],
+            ahead_success: vec![band(0.0, 0.605), band(0.999, 0.854)],
             push_ahead: false,
             ahead_rows: 12,
         }

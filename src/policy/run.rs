@@ -131,6 +131,7 @@ impl<'a> Run<'a> {
             grasp: trip.grasp.clone(),
             judged: trip.judged,
             ahead: trip.ahead.clone(),
+            ahead_rows: trip.ahead_rows.clone(),
             carried: Vec::new(),
             fault: None,
             lost: Vec::new(),

@@ -24,6 +24,7 @@ use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::plan::AheadRow;
 use crate::push::fork::finger_footprints;
 use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict, separating_push};
 use crate::random::SeededRng;
@@ -49,10 +50,14 @@ pub struct TripPlan {
     /// grasp of the pushed row a later trip is to make. `None` without pushes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub judged: Option<f64>,
-    /// When pushing ahead (`pricing.push_ahead`): the objects this trip's pushes arrange into a row
-    /// for a later trip's grasp, none of them taken by this trip's grasp. Empty otherwise.
+    /// When pushing ahead (`pricing.push_ahead`): the objects this trip's pushes arrange into rows
+    /// for later trips' grasps, none of them taken by this trip's grasp. Empty otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead: Vec<ObjectId>,
+    /// Those objects row by row, in the order the rows are pushed, each with the grasp judge's
+    /// probability for the grasp a later trip is to make of it (the first row's is `judged`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead_rows: Vec<AheadRow>,
 }
 
 /// Pushes to make, in order, the grasp planned on the table predicted after them, and the grasp
@@ -237,6 +242,7 @@ impl Policy {
                         grasp,
                         judged: None,
                         ahead: Vec::new(),
+                        ahead_rows: Vec::new(),
                     }));
                 }
                 None if reason.is_empty() => {
@@ -302,6 +308,7 @@ impl Policy {
             grasp,
             judged,
             ahead: Vec::new(),
+            ahead_rows: Vec::new(),
         };
         let mut skipped = Vec::new();
         if let Some(pusher) = self.pusher.as_deref()
@@ -526,6 +533,7 @@ impl Policy {
                 grasp,
                 judged,
                 ahead: Vec::new(),
+                ahead_rows: Vec::new(),
             };
         let mut skipped = Vec::new();
         if members.len() >= 2 {
