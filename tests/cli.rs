@@ -482,3 +482,51 @@ fn cluster_takes_the_policys_shared_settings() {
     ]);
     assert_eq!(both.status.code(), Some(2));
 }
+
+/// The settings file of the time-optimal policy (`experiments/push-mog-time.json`) is what
+/// `experiments/picks-per-hour.toml` gives push-mog-time, and plans with it verify.
+#[test]
+fn the_push_mog_time_settings_file_plans_as_the_experiment_does() {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/push-mog-time.json");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let from_file: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let config = pushmog::experiment::ExperimentConfig::read(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/picks-per-hour.toml"),
+    )
+    .unwrap();
+    let label = |p: &pushmog::experiment::PolicyConfig| p.label.as_deref() == Some("push-mog-time");
+    let index = config.policies.iter().position(label).unwrap();
+    let settings: pushmog::policy::PolicySettings = serde_json::from_value(from_file).unwrap();
+    assert_eq!(config.policy_settings(index, None), settings);
+    let dir = scratch("push-mog-time");
+    let (scene, plan) = (dir.join("scene.json"), dir.join("plan.json"));
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "3",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let output = pushmog(&[
+        "plan",
+        scene.to_str().unwrap(),
+        "--policy",
+        "push-mog-opt",
+        "--settings",
+        file.to_str().unwrap(),
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(
+        pushmog(&["verify", plan.to_str().unwrap()]).status.code(),
+        Some(0)
+    );
+}

@@ -277,12 +277,18 @@ mod tests {
         );
         let axis = axis.unwrap_or_else(Vector2::zeros);
         assert!((axis - Vector2::x()).norm() < 1e-9);
-        // Pushed past it 10 mm to one side: the axis leans toward the side.
+        // Pushed past it 10 mm to one side: the axis leans toward the side. A leaning axis
+        // meets the squares' corners, so the row needs more room than 65 mm: about 44 mm between
+        // centroids plus 30·(cos + sin) of the lean, 80 mm in all.
+        let roomy = PairRow {
+            row_limit: 0.08,
+            ..row
+        };
         let axis = pair_axis(
             (Point2::new(0.1, 0.01), &a),
             (Point2::origin(), &b),
             &-Vector2::x(),
-            row,
+            roomy,
             0.2,
         )
         .unwrap_or_else(Vector2::zeros);
