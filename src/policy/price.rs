@@ -77,8 +77,9 @@ pub struct Pricing {
     pub push_ahead: bool,
     /// Most rows one trip pushes ahead (`push_ahead`), each only when it pays with what it adds to
     /// the trip's commands; a trip pushes ahead only when no row pushed before still waits. Rows
-    /// pushed together share the jaw commands and the travel to and from the table, so a second
-    /// row in a trip costs about 7.2 s against 9.1 s for the first (`formulations/picks-per-hour.md`).
+    /// pushed together share the jaw commands and the travel to and from the table, so with flush
+    /// pushes a further row in a trip costs about 8.0 s against 9.5 s for the first
+    /// (`formulations/picks-per-hour.md`).
     /// Default 12: no trip on tables of 34 objects has more rows worth pushing.
     pub ahead_rows: usize,
 }
