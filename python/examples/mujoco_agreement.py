@@ -24,6 +24,19 @@ import mujoco_loop  # noqa: E402
 import pushmog  # noqa: E402
 
 
+# Named settings run as a policy of their own: push-mog-time is push-mog-opt with the settings file
+# that experiments/picks-per-hour.toml gives it.
+PRESETS = {"push-mog-time": ("push-mog-opt", Path(__file__).resolve().parents[2] / "experiments" / "push-mog-time.json")}
+
+
+def planner(name: str) -> pushmog.Planner:
+    """The planner of a policy or of a preset."""
+    if name in PRESETS:
+        policy, settings = PRESETS[name]
+        return pushmog.Planner(policy, settings=json.loads(settings.read_text()))
+    return pushmog.Planner(name)
+
+
 def noisy(noise: bool) -> str:
     """The suffix of a noisy run's file and table names."""
     return "-noisy" if noise else ""
@@ -35,7 +48,7 @@ def one(task: tuple) -> dict:
     if path.exists():  # resumable: a finished run is read back
         return json.loads(path.read_text())
     scene = pushmog.generate_scene(objects, seed)
-    result = mujoco_loop.both_engines(scene, pushmog.Planner(policy), seed, noise, lambda *_: None)
+    result = mujoco_loop.both_engines(scene, planner(policy), seed, noise, lambda *_: None)
     result.update(policy=policy, seed=seed, objects=objects, noise=noise, mujoco=mujoco.__version__, pushmog=pushmog.__version__)
     path.write_text(json.dumps(result, indent=2) + "\n")
     print(f"{policy} seed {seed}: MuJoCo OpT {result['objects_per_trip']:.3f}, rapier {result['rapier']['objects_per_trip']:.3f}", flush=True)
@@ -91,7 +104,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1-10")
     parser.add_argument("--objects", type=int, default=34)
-    parser.add_argument("--policies", nargs="+", default=["push-mog", "push-mog-opt"], choices=pushmog.POLICIES)
+    parser.add_argument("--policies", nargs="+", default=["push-mog", "push-mog-opt"], choices=[*pushmog.POLICIES, *PRESETS])
     parser.add_argument("--out", default="paper/tables")
     parser.add_argument("--runs", default="experiments/results/mujoco")
     parser.add_argument("--jobs", type=int, default=2)

@@ -475,7 +475,8 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
                     context.record_landing(current, index, world.landed_on)
                     break
                 pushes += 1
-            if landed or not current.pushes or not run["observe_after_pushes"]:
+            # Pushes ahead, for later trips' grasps, are seen at the next trip's look.
+            if landed or not current.pushes or not run["observe_after_pushes"] or current.ahead:
                 break
             seen, _ = world.observe(perception, rng)
             corrected = planner.correct_trip(seen, current, context, may_push=looks < run["max_corrections"])

@@ -139,6 +139,12 @@ class TripPlan:
         it is planned for (the ``p`` of the expected-time price); ``None`` without pushes."""
         return self._trip.get("judged")
 
+    @property
+    def ahead(self) -> list:
+        """Objects this trip pushes into rows for later trips (``pricing.push_ahead``): after such
+        pushes no look is made in the trip; the next trip's look shows the rows."""
+        return list(self._trip.get("ahead", []))
+
     def to_dict(self) -> dict:
         """The trip in the run-record format (a trip of ``pushmog plan`` without ``scene``,
         ``carried``, ``fault``)."""

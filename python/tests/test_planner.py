@@ -6,6 +6,7 @@ import subprocess
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -100,6 +101,21 @@ def test_closed_loop_through_plan_trip_clears_a_small_table(small_scene):
         table = table.without(trip.grasp.objects)
     assert len(table) == 0
     assert trips <= len(small_scene)
+
+
+def test_a_trip_pushing_ahead_names_the_rows_and_grasps_none_of_them():
+    """push-mog-time's settings (``experiments/push-mog-time.json``): the first trip of a full
+    table pushes rows for later trips; every pushed object is in ``ahead``, and the trip's own
+    grasp takes none of them, so a robot stack knows to skip the look after these pushes."""
+    path = Path(__file__).resolve().parents[2] / "experiments" / "push-mog-time.json"
+    planner = pushmog.Planner("push-mog-opt", settings=json.loads(path.read_text()))
+    trip = planner.plan_trip(pushmog.generate_scene(34, seed=1), pushmog.TripContext(1))
+    assert trip is not None and trip.pushes
+    ahead = set(trip.ahead)
+    assert {p.object for p in trip.pushes} <= ahead
+    assert ahead.isdisjoint(trip.grasp.objects)
+    rows = trip.to_dict()["ahead_rows"]
+    assert sorted(o for row in rows for o in row["objects"]) == sorted(ahead)
 
 
 @pytest.mark.parametrize("policy", pushmog.POLICIES)
