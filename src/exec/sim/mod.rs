@@ -21,6 +21,7 @@
 //!   observed outlines overlap is undone for one of them (a real segmentation never reports
 //!   interpenetrating objects).
 
+mod base;
 mod rollout;
 mod settings;
 mod world;

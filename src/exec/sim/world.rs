@@ -3,8 +3,7 @@
 //!
 //! Frames: the table top is the plane `z = 0`, gravity points down `−z`. An object's body frame is
 //! its polygon's frame at table level, so its collider is the convex hull of the outline at `z = 0`
-//! and at `z = height` (for outlines of many vertices, it stands on a separate base: [`Prism`]'s
-//! `base`). The palm is a kinematic body at the fingers' mid-height; its local `x` is the
+//! and at `z = height` (for outlines of many vertices, it stands on a separate base: `base.rs`). The palm is a kinematic body at the fingers' mid-height; its local `x` is the
 //! closing axis. Each finger is a dynamic box (plate thickness along `x`, plate length along `y`,
 //! finger height along `z`) on a prismatic joint along the palm's `x`.
 //!
@@ -23,6 +22,7 @@
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::*;
 
+use super::base;
 use super::settings::FingerDrive;
 use crate::geometry::ConvexPolygon;
 use crate::scene::{Gripper, ObjectId, Pose as PlanarPose};
@@ -40,18 +40,6 @@ const TOUCHING: f64 = 0.0;
 const TABLE: u128 = 0;
 const OBJECT: u128 = 1;
 const FINGER: u128 = 2;
-
-/// Outlines of more vertices than this stand on a separate base of triangular prisms
-/// ([`Prism::base`]). rapier's contact between two faces keeps at most four vertices of each
-/// (parry3d 0.31's `PolygonalFeatureMap for ConvexPolyhedron` takes the first four of a face), so
-/// the hull of an outline of many short edges, a rounded corner traced vertex by vertex, stood on
-/// four points a few millimetres apart: such objects rocked and crept up to 25 mm per trip while
-/// nothing touched them (`formulations/grasping.md`, "Outlines of many vertices in the
-/// simulator"). Objects of the built-in library (3 to 8 sides) and regular polygons of up to 24
-/// sides, noise-free, moved at most 0.5 mm per trip on the hull alone. The bound is 8 so that every
-/// run on the library, and every committed table, stays as it was; giving bases of 5 to 8
-/// vertices their whole outline too changes those runs, and is left for a regeneration of them.
-pub(super) const WHOLE_HULL_UP_TO: usize = 8;
 
 /// One object as the simulator knows it: its prism and its full spatial pose.
 #[derive(Clone, Debug)]
@@ -129,63 +117,6 @@ impl Prism {
             })
             .collect()
     }
-
-    /// For an outline of more than [`WHOLE_HULL_UP_TO`] vertices, the object's *base*: the prisms
-    /// of the triangles from the outline's centroid to each edge, joined into one massless compound
-    /// that touches only the table, so that every face rapier compares with the table's has three
-    /// vertices and the object rests on all of its outline. The convex hull of the prism stays the
-    /// object's collider for everything else (fingers, other objects) and carries its mass. `None`
-    /// for outlines of fewer vertices, whose hull rests on the table itself.
-    fn base(&self) -> Option<ColliderBuilder> {
-        let vertices = self.polygon.vertices();
-        if vertices.len() <= WHOLE_HULL_UP_TO {
-            return None;
-        }
-        let centre = self.polygon.centroid();
-        let shapes = (0..vertices.len())
-            .map(|i| {
-                let corners = [centre, vertices[i], vertices[(i + 1) % vertices.len()]];
-                let points: Vec<Vector> = corners
-                    .iter()
-                    .flat_map(|v| {
-                        [
-                            Vector::new(v.x, v.y, 0.0),
-                            Vector::new(v.x, v.y, self.height),
-                        ]
-                    })
-                    .collect();
-                SharedShape::convex_hull(&points).map(|shape| (Pose::IDENTITY, shape))
-            })
-            .collect::<Option<Vec<_>>>()?;
-        Some(ColliderBuilder::compound(shapes))
-    }
-}
-
-/// Collision groups. The table is alone in `TABLE_GROUP`; fingers and objects are in every other
-/// group and touch everything. The hull of an object that has a separate base touches everything
-/// but the table, and the base touches only the table.
-const TABLE_GROUP: Group = Group::GROUP_1;
-const BASE_GROUP: Group = Group::GROUP_2;
-
-fn table_groups() -> InteractionGroups {
-    InteractionGroups::new(TABLE_GROUP, Group::ALL, InteractionTestMode::And)
-}
-
-fn body_groups() -> InteractionGroups {
-    InteractionGroups::new(
-        Group::ALL.difference(TABLE_GROUP),
-        Group::ALL,
-        InteractionTestMode::And,
-    )
-}
-
-fn hull_over_base_groups() -> InteractionGroups {
-    let above = Group::ALL.difference(TABLE_GROUP);
-    InteractionGroups::new(above, above, InteractionTestMode::And)
-}
-
-fn base_groups() -> InteractionGroups {
-    InteractionGroups::new(BASE_GROUP, TABLE_GROUP, InteractionTestMode::And)
 }
 
 /// Per-pair friction from the two colliders' materials.
@@ -298,7 +229,7 @@ impl Stage {
             .insert(RigidBodyBuilder::fixed().translation(Vector::new(palm.0, palm.1, -0.05)));
         world.colliders.insert_with_parent(
             ColliderBuilder::cuboid(1.0, 1.0, 0.05)
-                .collision_groups(table_groups())
+                .collision_groups(base::table_groups())
                 .user_data(TABLE)
                 .active_hooks(hooks),
             table,
@@ -314,11 +245,11 @@ impl Stage {
                     .can_sleep(false),
             );
             let volume = prism.polygon.area() * prism.height;
-            let base = prism.base();
+            let base = base::collider(&prism.polygon, prism.height);
             let groups = if base.is_some() {
-                hull_over_base_groups()
+                base::hull_over_base_groups()
             } else {
-                body_groups()
+                base::body_groups()
             };
             if let Some(collider) = ColliderBuilder::convex_hull(&prism.points()) {
                 let handle = world.colliders.insert_with_parent(
@@ -335,7 +266,7 @@ impl Stage {
             if let Some(base) = base {
                 world.colliders.insert_with_parent(
                     base.density(0.0)
-                        .collision_groups(base_groups())
+                        .collision_groups(base::base_groups())
                         .user_data(OBJECT)
                         .active_hooks(hooks),
                     body,
@@ -374,7 +305,7 @@ impl Stage {
                 world.colliders.insert_with_parent(
                     ColliderBuilder::cuboid(half[0], half[1], half[2])
                         .density(settings.finger_mass / volume)
-                        .collision_groups(body_groups())
+                        .collision_groups(base::body_groups())
                         .user_data(FINGER)
                         .active_hooks(hooks),
                     finger,
