@@ -309,8 +309,10 @@ fn planned_multi_object_grasps_hold_in_the_simulator() {
 
 /// Plans written by closed loops in the simulator pass the independent verifier, record checks
 /// included: toppled objects that leave the observation and come back, objects lifted along with
-/// others, looks during trips, and what is left at the end all add up.
+/// others, looks during trips, and what is left at the end all add up. Eight closed loops in physics
+/// (about 50 s on 2 cores): with the statistical checks, `cargo test -- --ignored`.
 #[test]
+#[ignore = "statistical: cargo test -- --ignored"]
 fn simulated_runs_write_plans_that_verify() {
     use pushmog::plan::verify;
     use pushmog::policy::{Policy, PolicyKind, PolicySettings};
