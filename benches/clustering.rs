@@ -5,6 +5,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use pushmog::cluster::{ClusterObjective, Clusterer, Hierarchical, Milp, MilpSettings};
 use pushmog::plan::Status;
+use pushmog::problem::Problem;
 use pushmog::scene::{GeneratorSettings, Scene, Workspace, builtin_object_set, generate_scene};
 
 /// A scene of `n` objects with the workspace grown to keep the 34-object density.
@@ -34,10 +35,13 @@ fn clustering(c: &mut Criterion) {
             ("milp-time", ClusterObjective::Time),
             ("milp-fewest", ClusterObjective::FewestClusters),
         ] {
-            let milp = Milp::new(MilpSettings {
-                objective,
-                ..MilpSettings::default()
-            })
+            let milp = Milp::new(
+                MilpSettings {
+                    objective,
+                    ..MilpSettings::default()
+                },
+                Problem::shared_default(),
+            )
             .unwrap();
             // Benchmark only what is proven optimal: time to proof, not time to a time limit.
             assert_eq!(

@@ -11,6 +11,8 @@
 //! - [`geometry`]: convex polygons, minimum grasp diameters, separating lines, sliding and contact.
 //! - [`scene`]: objects, the gripper, the workspace and the validated [`Scene`]; the built-in object
 //!   library and the seeded scene generator.
+//! - [`problem`]: what every planning stage shares, validated once: the grasp model, the fork-push
+//!   geometry, the shortest push and the time model.
 //! - [`cluster`]: partitions into clusters that fit the jaws (the paper's hierarchical clustering).
 //! - [`push`]: fork pushes that bring a cluster together (the paper's pushes toward the central object).
 //! - [`grasp`]: jaw poses and the analytic model of what a closing holds; single- and multi-object
@@ -41,6 +43,7 @@ pub mod json;
 pub mod outcome;
 pub mod plan;
 pub mod policy;
+pub mod problem;
 pub mod push;
 pub mod random;
 pub mod render;

@@ -9,6 +9,7 @@ use pushmog::grasp::{
 };
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::problem::Problem;
 use pushmog::push::{PushPlanner, TowardCentral, TowardCentralSettings, predict};
 use pushmog::scene::{
     GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
@@ -205,10 +206,10 @@ fn pushes_toward_the_central_object_end_touching_it_or_a_set_gap_short() {
     let ids = [ObjectId(0), ObjectId(1), ObjectId(2)];
     // Object 1 is central; both others move toward it: the whole 30 mm of free travel by default,
     // 28 mm with a 2 mm gap.
-    let gapped = TowardCentral::new(TowardCentralSettings {
-        stop_gap: 0.002,
-        ..TowardCentralSettings::default()
-    })
+    let gapped = TowardCentral::new(
+        TowardCentralSettings { stop_gap: 0.002 },
+        Problem::shared_default(),
+    )
     .unwrap();
     for (pusher, travel) in [(TowardCentral::default(), 0.03), (gapped, 0.028)] {
         let plan = pusher.plan(&s, &ids).unwrap().value;

@@ -436,7 +436,7 @@ fn run_in_the_simulator_with_a_replay() {
 /// effective MILP settings. With `--settings` as well it is a usage error.
 #[test]
 fn cluster_takes_the_policys_shared_settings() {
-    use pushmog::cluster::{Clusterer, Milp};
+    use pushmog::cluster::Clusterer;
     use pushmog::policy::PolicySettings;
     let dir = scratch("cluster-policy-settings");
     let scene = dir.join("scene.json");
@@ -462,7 +462,8 @@ fn cluster_takes_the_policys_shared_settings() {
     let spec = std::fs::read_to_string(&scene).unwrap();
     let table =
         pushmog::scene::Scene::new(pushmog::json::from_json(&spec, "scene").unwrap()).unwrap();
-    let expected = Milp::new(policy.effective().milp)
+    let expected = policy
+        .milp_clusterer(policy.problem().unwrap(), policy.row_test())
         .unwrap()
         .cluster(&table)
         .unwrap()

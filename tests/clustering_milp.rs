@@ -5,12 +5,13 @@ use crate::support::boxes;
 use nalgebra::Point2;
 use pushmog::cluster::{
     ClusterObjective, Clusterer, CostModel, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
-    admits_row, centroid_diameter, compact_candidates, fits_jaws, split_unrowable,
+    RowTest, admits_row, centroid_diameter, compact_candidates, fits_jaws, split_unrowable,
 };
 use pushmog::experiment::compare_clustering;
 use pushmog::geometry::{ConvexPolygon, separating_line};
 use pushmog::json::read_scene;
 use pushmog::plan::{Status, verify_clustering};
+use pushmog::problem::Problem;
 use pushmog::scene::{
     GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
     generate_scene,
@@ -52,10 +53,10 @@ fn brute_force_with(
     require_separable: bool,
 ) -> f64 {
     let n = scene.len();
-    let limit = scene.gripper().usable_gap() - settings.row_margin;
+    let limit = scene.gripper().usable_gap() - RowTest::default().margin;
     let heuristic = split_unrowable(
         scene,
-        heuristic_indices(scene, &settings.heuristic),
+        heuristic_indices(scene, &HierarchicalSettings::default()),
         limit,
         0.001,
     );
@@ -77,8 +78,8 @@ fn brute_force_with(
     let cost = CostModel::new(
         scene,
         objective,
-        &settings.time_model,
-        settings.min_push,
+        Problem::default().time_model(),
+        Problem::default().min_push(),
         widest,
     );
     let mut best = f64::INFINITY;
@@ -147,7 +148,7 @@ fn milp_matches_brute_force_on_60_small_instances() {
                 max_diameter: f64::INFINITY,
                 ..MilpSettings::default()
             };
-            let outcome = Milp::new(settings.clone())
+            let outcome = Milp::new(settings.clone(), Problem::shared_default())
                 .unwrap()
                 .cluster(&scene)
                 .unwrap();
@@ -182,12 +183,11 @@ fn on_100_scenes_milp_never_loses_and_always_verifies() {
     let rows = compare_clustering(
         &GeneratorSettings::default(),
         &builtin_object_set(),
-        &MilpSettings::default(),
+        &Milp::default(),
         100,
         1,
     )
     .unwrap();
-    let settings = MilpSettings::default();
     for row in &rows {
         assert!(
             row.violations.is_empty(),
@@ -204,15 +204,15 @@ fn on_100_scenes_milp_never_loses_and_always_verifies() {
         .unwrap();
         let taken = split_unrowable(
             &scene,
-            heuristic_indices(&scene, &settings.heuristic),
-            scene.gripper().usable_gap() - settings.row_margin,
+            heuristic_indices(&scene, &HierarchicalSettings::default()),
+            scene.gripper().usable_gap() - RowTest::default().margin,
             0.001,
         );
         let cost = CostModel::new(
             &scene,
             ClusterObjective::Time,
-            &settings.time_model,
-            settings.min_push,
+            Problem::default().time_model(),
+            Problem::default().min_push(),
             taken
                 .iter()
                 .map(|c| centroid_diameter(&scene, c))
@@ -255,10 +255,13 @@ fn cluster_both(scene: &Scene) -> Vec<(Status, usize)> {
     [ClusterObjective::Time, ClusterObjective::FewestClusters]
         .into_iter()
         .map(|objective| {
-            let milp = Milp::new(MilpSettings {
-                objective,
-                ..MilpSettings::default()
-            })
+            let milp = Milp::new(
+                MilpSettings {
+                    objective,
+                    ..MilpSettings::default()
+                },
+                Problem::shared_default(),
+            )
             .unwrap();
             let outcome = milp.cluster(scene).unwrap();
             assert!(verify_clustering(scene, &outcome.value).is_empty());
@@ -330,10 +333,13 @@ fn a_tiny_time_limit_still_returns_a_verified_clustering_no_worse_than_the_heuri
         3,
     )
     .unwrap();
-    let milp = Milp::new(MilpSettings {
-        time_limit: 1e-3, // the least accepted: a millisecond
-        ..MilpSettings::default()
-    })
+    let milp = Milp::new(
+        MilpSettings {
+            time_limit: 1e-3, // the least accepted: a millisecond
+            ..MilpSettings::default()
+        },
+        Problem::shared_default(),
+    )
     .unwrap();
     let outcome = milp.cluster(&scene).unwrap();
     assert!(verify_clustering(&scene, &outcome.value).is_empty());
@@ -366,21 +372,23 @@ fn saved_instance_fewest_clusters_100_seed_2_is_proven_optimal() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("formulations/instances/fewest-clusters-100-seed2.json");
     let scene = read_scene(&path).unwrap();
-    let outcome = Milp::new(MilpSettings {
-        objective: ClusterObjective::FewestClusters,
-        ..MilpSettings::default()
-    })
+    let outcome = Milp::new(
+        MilpSettings {
+            objective: ClusterObjective::FewestClusters,
+            ..MilpSettings::default()
+        },
+        Problem::shared_default(),
+    )
     .unwrap()
     .cluster(&scene)
     .unwrap();
     assert_eq!(outcome.status, Status::Optimal);
     // The heuristic's clusters that stand in a row are candidates (the others split into single
     // objects), so the fewest clusters are never more than it takes.
-    let settings = MilpSettings::default();
     let taken = split_unrowable(
         &scene,
-        heuristic_indices(&scene, &settings.heuristic),
-        scene.gripper().usable_gap() - settings.row_margin,
+        heuristic_indices(&scene, &HierarchicalSettings::default()),
+        scene.gripper().usable_gap() - RowTest::default().margin,
         0.001,
     );
     assert!(outcome.value.len() <= taken.len());
@@ -414,7 +422,7 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
             let scene = generate_scene(&settings, &builtin_object_set(), seed).unwrap();
             (scene, MilpSettings::default())
         };
-        let milp = Milp::new(settings.clone()).unwrap();
+        let milp = Milp::new(settings.clone(), Problem::shared_default()).unwrap();
         let mut outcome = milp.cluster(&scene).unwrap();
         // Carry away the largest cluster each time, as the closed loop does, until the table is clear.
         while !scene.is_empty() {
@@ -427,7 +435,7 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
                 .clone();
             scene = scene.without(&carried);
             outcome = milp.cluster(&scene).unwrap();
-            let fresh = Milp::new(settings.clone())
+            let fresh = Milp::new(settings.clone(), Problem::shared_default())
                 .unwrap()
                 .cluster(&scene)
                 .unwrap();
@@ -460,7 +468,7 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
 
     // Nudging one object that stays on the table forbids the reuse.
     let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
-    let milp = Milp::new(MilpSettings::default()).unwrap();
+    let milp = Milp::new(MilpSettings::default(), Problem::shared_default()).unwrap();
     let first = milp.cluster(&scene).unwrap();
     let carried = first.value.clusters[0].clone();
     let rest = scene.without(&carried);
@@ -498,7 +506,7 @@ fn independent_parts_solved_one_by_one_match_brute_force() {
                 objective,
                 ..milp_settings.clone()
             };
-            let outcome = Milp::new(milp_settings.clone())
+            let outcome = Milp::new(milp_settings.clone(), Problem::shared_default())
                 .unwrap()
                 .cluster(&scene)
                 .unwrap();
@@ -529,7 +537,7 @@ fn a_1000_object_table_is_proven_optimal_part_by_part() {
         ..GeneratorSettings::default()
     };
     let scene = generate_scene(&settings, &builtin_object_set(), 2).unwrap();
-    let outcome = Milp::new(MilpSettings::default())
+    let outcome = Milp::new(MilpSettings::default(), Problem::shared_default())
         .unwrap()
         .cluster(&scene)
         .unwrap();

@@ -7,10 +7,12 @@ use pushmog::geometry::distance;
 use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
 use pushmog::outcome::Outcome;
 use pushmog::plan::Status;
+use pushmog::problem::{DEFAULT_MIN_PUSH, ForkSettings, Problem};
 use pushmog::push::{
     PushPlan, PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, predict,
 };
 use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
+use pushmog::time_model::TimeModel;
 
 fn squares(side: f64, at: &[(f64, f64)]) -> Scene {
     boxes(side, side, at)
@@ -99,12 +101,21 @@ fn an_outside_object_is_kept_clear() {
 /// members caught in one row, judged with unlimited friction) for most feasible clusters.
 #[test]
 fn socp_rows_fit_the_jaws_on_seeded_scenes() {
-    let geometric = MultiObject::new(MultiObjectSettings {
-        model: GraspModel::unlimited_friction(),
-        samples: 1,
-        clearance_sigmas: 0.0,
-        ..MultiObjectSettings::default()
-    })
+    let unlimited = Problem::new(
+        GraspModel::unlimited_friction(),
+        ForkSettings::default(),
+        DEFAULT_MIN_PUSH,
+        TimeModel::default(),
+    )
+    .unwrap();
+    let geometric = MultiObject::new(
+        MultiObjectSettings {
+            samples: 1,
+            clearance_sigmas: 0.0,
+            ..MultiObjectSettings::default()
+        },
+        unlimited,
+    )
     .unwrap();
     let (mut clusters, mut fits, mut infeasible) = (0, 0, 0);
     for seed in 0..10 {
@@ -289,17 +300,23 @@ fn rows_held_under_noise_are_grasped_by_the_multi_object_planner() {
     // error included) carries every member at the intended jaws often enough. That planner, asked
     // on the predicted table, then finds a grasp of two or more objects.
     let multi = MultiObject::default();
-    let robust = Socp::new(SocpSettings {
-        robust_rows: true,
-        ..SocpSettings::default()
-    })
+    let robust = Socp::new(
+        SocpSettings {
+            robust_rows: true,
+            ..SocpSettings::default()
+        },
+        Problem::shared_default(),
+    )
     .unwrap()
     .with_judge(multi.clone());
     // The same judge with the setting off: rows judged by the grasp model alone.
-    let nominal = Socp::new(SocpSettings {
-        robust_rows: false,
-        ..SocpSettings::default()
-    })
+    let nominal = Socp::new(
+        SocpSettings {
+            robust_rows: false,
+            ..SocpSettings::default()
+        },
+        Problem::shared_default(),
+    )
     .unwrap()
     .with_judge(multi.clone());
     let (mut clusters, mut held, mut held_nominal) = (0, 0, 0);
@@ -342,9 +359,7 @@ fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
     let rows = pushmog::experiment::compare_pushing(
         &GeneratorSettings::default(),
         &builtin_object_set(),
-        &pushmog::cluster::HierarchicalSettings::default(),
-        &pushmog::push::TowardCentralSettings::default(),
-        &SocpSettings::default(),
+        &pushmog::policy::PolicySettings::default(),
         1..3,
         &mut |done| reported.push(done),
     )
@@ -382,7 +397,7 @@ fn the_push_comparison_compares_the_same_clusters_within_its_totals() {
 /// verifies and clears the table.
 #[test]
 fn flush_pushes_meet_a_face_of_their_object_flat() {
-    use pushmog::cluster::{FlushPairs, Milp, MilpSettings};
+    use pushmog::cluster::{FlushPairs, Milp, MilpSettings, RowTest};
     use pushmog::plan::{RunStatus, verify};
     use pushmog::policy::{Policy, PolicyKind, PolicySettings};
     use pushmog::push::flush::{PairRow, admits_flush_pair, block_opening, flush_face};
@@ -395,16 +410,18 @@ fn flush_pushes_meet_a_face_of_their_object_flat() {
         let scene =
             generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
         // The MILP's pairs pass the flush pair test.
-        let milp = Milp::new(MilpSettings {
-            flush_pairs: Some(FlushPairs {
-                straddle: socp.straddle,
-                margin: socp.flush_margin,
-                cone: socp.flush_cone,
-                tight: socp.flush_gap,
-            }),
-            ..MilpSettings::default()
-        })
-        .unwrap();
+        let milp = Milp::new(MilpSettings::default(), Problem::shared_default())
+            .unwrap()
+            .with_rows(RowTest {
+                margin: socp.margin,
+                flush_pairs: Some(FlushPairs {
+                    straddle: socp.straddle,
+                    margin: socp.flush_margin,
+                    cone: socp.flush_cone,
+                    tight: socp.flush_gap,
+                }),
+            })
+            .unwrap();
         let row = PairRow {
             row_limit: scene.gripper().usable_gap() - socp.margin,
             gap: socp.gap,

@@ -19,6 +19,7 @@
 //! without a solve when provably still optimal (`reuse.rs`, `formulations/clustering.md`).
 
 use std::collections::HashSet;
+use std::sync::Arc;
 use std::time::Instant;
 
 use good_lp::solvers::{
@@ -29,7 +30,7 @@ use serde::{Deserialize, Serialize};
 
 use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
 use super::decompose;
-use super::hierarchical::{Hierarchical, HierarchicalSettings};
+use super::hierarchical::Hierarchical;
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
 use super::reuse::{self, LastOptimum};
 use super::separability::separability_conflicts;
@@ -38,9 +39,9 @@ use super::{Clusterer, Clustering};
 use super::{ROW_GAP, admits_row, split_unrowable};
 use crate::error::{Error, Result};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
 use crate::push::flush::{PairRow, admits_flush_pair};
 use crate::scene::Scene;
-use crate::time_model::TimeModel;
 
 /// The push planner's flush-push settings, for the clustering's pair test.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,16 +83,6 @@ pub struct MilpSettings {
     /// Largest distance between two centroids of a candidate cluster (push reach), metres. Default
     /// 0.10, the hierarchical clustering's default cut height.
     pub max_diameter: f64,
-    /// Pushes estimated shorter than this are not made, metres. Default 0.003 (as the push planner).
-    /// In a policy's settings it is set once for every stage (`PolicySettings::min_push`).
-    #[serde(skip)]
-    pub min_push: f64,
-    /// Room a candidate cluster's row must leave in the usable jaw gap, metres: a cluster of two or
-    /// more is a candidate only if its members can stand in a row (1 mm apart) of at most the gap
-    /// less this, along some axis at their current yaws. Default 0.010. In a policy it is the push
-    /// planner's (`socp.margin`).
-    #[serde(skip)]
-    pub row_margin: f64,
     /// Wall-clock limit of one clustering (enumeration and every solve), seconds. Default 10.
     pub time_limit: f64,
     /// Most candidate clusters the model may hold; beyond it (tightly packed small objects) the
@@ -108,19 +99,6 @@ pub struct MilpSettings {
     /// that count) rather than as one weighted sum. Default true: the weighted sum's near-ties slow
     /// the proof by orders of magnitude (`formulations/clustering.md`).
     pub two_stage_fewest_clusters: bool,
-    /// With flush pushes (`socp.flush`), pairs are candidates only when a flush push of one member
-    /// lines them up ([`crate::push::flush::admits_flush_pair`]): the straddle and the face margin
-    /// of the push planner. `None` (default): any pair that stands in a row. In a policy it is set
-    /// from `socp`.
-    #[serde(skip)]
-    pub flush_pairs: Option<FlushPairs>,
-    /// Seconds per trip and per push. In a policy it is the policy's (`PolicySettings::time_model`).
-    #[serde(skip)]
-    pub time_model: TimeModel,
-    /// The heuristic whose clusters join the candidates and warm-start the solver. In a policy it is
-    /// the policy's (`PolicySettings::clustering`).
-    #[serde(skip)]
-    pub heuristic: HierarchicalSettings,
 }
 
 impl Default for MilpSettings {
@@ -129,17 +107,12 @@ impl Default for MilpSettings {
             objective: ClusterObjective::Time,
             max_cluster_size: 12,
             max_diameter: 0.10,
-            min_push: 0.003,
-            row_margin: 0.010,
             time_limit: 10.0,
             max_candidates: 20_000,
             max_clash_rows: 200_000,
             mip_gap: 0.0,
             backend: MilpBackend::Microlp,
             two_stage_fewest_clusters: true,
-            flush_pairs: None,
-            time_model: TimeModel::default(),
-            heuristic: HierarchicalSettings::default(),
         }
     }
 }
@@ -176,8 +149,6 @@ impl MilpSettings {
                 ),
             ));
         }
-        crate::error::in_range("milp", "min_push", self.min_push, (0.0, 0.1), "metres")?;
-        crate::error::in_range("milp", "row_margin", self.row_margin, (0.0, 0.05), "metres")?;
         crate::error::in_range(
             "milp",
             "mip_gap",
@@ -211,15 +182,43 @@ impl MilpSettings {
                 "HiGHS is not compiled in: build with `--features highs` (needs cmake and libclang)",
             ));
         }
-        self.time_model.validate()?;
-        self.heuristic.validate()
+        Ok(())
+    }
+}
+
+/// Which clusters may be candidates: those whose members stand in a row the push planner can make.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowTest {
+    /// Room a candidate cluster's row must leave in the usable jaw gap, metres: a cluster of two or
+    /// more is a candidate only if its members can stand in a row (1 mm apart) of at most the gap
+    /// less this, along some axis at their current yaws. Default 0.010; in a policy, the push
+    /// planner's (`socp.margin`).
+    pub margin: f64,
+    /// With flush pushes (`socp.flush`), pairs are candidates only when a flush push of one member
+    /// lines them up ([`crate::push::flush::admits_flush_pair`]), with the push planner's straddle
+    /// and face margin. `None` (default): any pair that stands in a row.
+    pub flush_pairs: Option<FlushPairs>,
+}
+
+impl Default for RowTest {
+    fn default() -> Self {
+        Self {
+            margin: 0.010,
+            flush_pairs: None,
+        }
     }
 }
 
 /// Optimal clustering by set partitioning.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Milp {
     settings: MilpSettings,
+    /// What every stage agrees on: the time model and `min_push` price the candidates.
+    problem: Arc<Problem>,
+    /// Which clusters are candidates.
+    rows: RowTest,
+    /// The heuristic whose clusters join the candidates and warm-start the solver.
+    heuristic: Hierarchical,
     /// The last proven optimum (time objective), reused while it provably stays optimal.
     last: LastOptimum,
 }
@@ -236,22 +235,65 @@ struct Model<'a> {
     time_limit: f64,
 }
 
+impl Default for Milp {
+    fn default() -> Self {
+        Self::new(MilpSettings::default(), Problem::shared_default())
+            .expect("the default settings are valid")
+    }
+}
+
 impl Milp {
-    /// A clusterer with these settings.
+    /// A clusterer with these settings, pricing clusters by the problem's time model and
+    /// `min_push`, proposing clusters that pass the default [`RowTest`], seeded by the default
+    /// hierarchical clustering.
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range or the backend is not compiled in.
-    pub fn new(settings: MilpSettings) -> Result<Self> {
+    pub fn new(settings: MilpSettings, problem: Arc<Problem>) -> Result<Self> {
         settings.validate()?;
         Ok(Self {
             settings,
+            problem,
+            rows: RowTest::default(),
+            heuristic: Hierarchical::default(),
             last: LastOptimum::default(),
         })
+    }
+
+    /// The same clusterer proposing the clusters that pass `rows` (in a policy, the push planner's).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] (`socp.margin`) when the margin is outside 0 to 0.05 m.
+    pub fn with_rows(mut self, rows: RowTest) -> Result<Self> {
+        crate::error::in_range("socp", "margin", rows.margin, (0.0, 0.05), "metres")?;
+        self.rows = rows;
+        Ok(self)
+    }
+
+    /// The same clusterer seeded by `heuristic` (in a policy, the policy's `clustering`).
+    pub fn seeded_by(mut self, heuristic: Hierarchical) -> Self {
+        self.heuristic = heuristic;
+        self
     }
 
     /// The effective settings.
     pub fn settings(&self) -> &MilpSettings {
         &self.settings
+    }
+
+    /// The problem whose time model and `min_push` price the candidates.
+    pub fn problem(&self) -> &Arc<Problem> {
+        &self.problem
+    }
+
+    /// Which clusters may be candidates.
+    pub fn rows(&self) -> RowTest {
+        self.rows
+    }
+
+    /// The heuristic that seeds the solver.
+    pub fn heuristic(&self) -> &Hierarchical {
+        &self.heuristic
     }
 
     /// Solves one stage, adding any clash the rows missed (checked geometrically) and solving again.
@@ -556,12 +598,12 @@ impl Clusterer for Milp {
     fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>> {
         let started = Instant::now();
         let settings = &self.settings;
-        let heuristic = Hierarchical::new(settings.heuristic.clone())?.cluster(scene)?;
+        let heuristic = self.heuristic.cluster(scene)?;
         // A cluster is worth pushing only if its members can stand in one row the jaws take.
-        let limit = scene.gripper().usable_gap() - settings.row_margin;
+        let limit = scene.gripper().usable_gap() - self.rows.margin;
         // The heuristic's clusters join the candidates, so that its answer is a feasible point; one
         // that cannot stand in a row is split into single objects, as it would be taken.
-        let flush_ok = |members: &[usize]| match (settings.flush_pairs, members) {
+        let flush_ok = |members: &[usize]| match (self.rows.flush_pairs, members) {
             (Some(flush), &[a, b]) => admits_flush_pair(
                 scene,
                 (a, b),
@@ -651,8 +693,8 @@ impl Clusterer for Milp {
         let costs_model = CostModel::new(
             scene,
             settings.objective,
-            &settings.time_model,
-            settings.min_push,
+            self.problem.time_model(),
+            self.problem.min_push(),
             largest,
         );
         let costs: Vec<f64> = candidates

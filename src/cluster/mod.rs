@@ -29,7 +29,7 @@ use crate::scene::{ObjectId, Scene};
 
 pub use candidates::{Budget, clashing_pairs, compact_candidates, compact_candidates_where};
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
-pub use milp::{FlushPairs, Milp, MilpBackend, MilpSettings};
+pub use milp::{FlushPairs, Milp, MilpBackend, MilpSettings, RowTest};
 pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};
 pub use separability::{repair_separability, separability_conflicts};
 pub use split::{SplitSettings, split_until_valid};

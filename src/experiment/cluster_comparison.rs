@@ -12,8 +12,8 @@
 use std::fmt::Write as _;
 
 use crate::cluster::{
-    ClusterObjective, Clusterer, Clustering, CostModel, Hierarchical, Milp, MilpSettings, ROW_GAP,
-    admits_row, split_unrowable,
+    ClusterObjective, Clusterer, Clustering, CostModel, Milp, MilpSettings, ROW_GAP, admits_row,
+    split_unrowable,
 };
 use crate::error::Result;
 use crate::outcome::Status;
@@ -59,30 +59,36 @@ pub struct SceneComparison {
     pub violations: Vec<String>,
 }
 
-/// Runs the comparison on `scenes` scenes with seeds `first_seed, first_seed + 1, …`.
+/// Runs the comparison on `scenes` scenes with seeds `first_seed, first_seed + 1, …`: the MILP
+/// `milp` (its settings, problem, row test and seeding heuristic) under both objectives against
+/// its heuristic.
 ///
 /// # Errors
 /// Invalid settings or a scene that cannot be generated.
 pub fn compare_clustering(
     generator: &GeneratorSettings,
     set: &ObjectSet,
-    milp: &MilpSettings,
+    milp: &Milp,
     scenes: usize,
     first_seed: u64,
 ) -> Result<Vec<SceneComparison>> {
-    let hierarchical = Hierarchical::new(milp.heuristic.clone())?;
-    let by_time = Milp::new(MilpSettings {
-        objective: ClusterObjective::Time,
-        ..milp.clone()
-    })?;
-    let by_count = Milp::new(MilpSettings {
-        objective: ClusterObjective::FewestClusters,
-        ..milp.clone()
-    })?;
+    let hierarchical = milp.heuristic().clone();
+    let with_objective = |objective| -> Result<Milp> {
+        let settings = MilpSettings {
+            objective,
+            ..milp.settings().clone()
+        };
+        Ok(Milp::new(settings, milp.problem().clone())?
+            .with_rows(milp.rows())?
+            .seeded_by(hierarchical.clone()))
+    };
+    let by_time = with_objective(ClusterObjective::Time)?;
+    let by_count = with_objective(ClusterObjective::FewestClusters)?;
+    let problem = milp.problem();
     let mut rows = Vec::with_capacity(scenes);
     for seed in first_seed..first_seed + scenes as u64 {
         let scene = generate_scene(generator, set, seed)?;
-        let row_limit = scene.gripper().usable_gap() - milp.row_margin;
+        let row_limit = scene.gripper().usable_gap() - milp.rows().margin;
         let indices = |clustering: &Clustering| -> Result<Vec<Vec<usize>>> {
             clustering
                 .clusters
@@ -94,8 +100,8 @@ pub fn compare_clustering(
         let cost = CostModel::new(
             &scene,
             ClusterObjective::Time,
-            &milp.time_model,
-            milp.min_push,
+            problem.time_model(),
+            problem.min_push(),
             0.0,
         );
         let h = hierarchical.cluster(&scene)?;

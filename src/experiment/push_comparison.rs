@@ -14,13 +14,13 @@
 
 use std::fmt::Write as _;
 
-use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings};
+use crate::cluster::{Clusterer, Hierarchical};
 use crate::error::Result;
 use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
 use crate::outcome::Status;
-use crate::push::{
-    PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, TowardCentralSettings, predict,
-};
+use crate::policy::PolicySettings;
+use crate::problem::Problem;
+use crate::push::{PushPlanner, SkipReason, Socp, TowardCentral, predict};
 use crate::scene::{GeneratorSettings, ObjectId, ObjectSet, Scene, generate_scene};
 use crate::stats::mean_std;
 
@@ -85,25 +85,30 @@ pub struct PushComparison {
 pub fn compare_pushing(
     generator: &GeneratorSettings,
     set: &ObjectSet,
-    clustering: &HierarchicalSettings,
-    central: &TowardCentralSettings,
-    socp: &SocpSettings,
+    settings: &PolicySettings,
     seeds: std::ops::Range<u64>,
     done: &mut dyn FnMut(usize),
 ) -> Result<Vec<PushComparison>> {
-    let clusterer = Hierarchical::new(clustering.clone())?;
-    let central = TowardCentral::new(central.clone())?;
-    let socp = Socp::new(socp.clone())?;
-    let fits = MultiObject::new(MultiObjectSettings {
-        model: GraspModel::unlimited_friction(),
-        samples: 1,
-        clearance_sigmas: 0.0,
-        ..MultiObjectSettings::default()
-    })?;
-    let holds = MultiObject::new(MultiObjectSettings {
-        model: socp.settings().model.clone(),
-        ..MultiObjectSettings::default()
-    })?;
+    let problem = settings.problem()?;
+    let clusterer = Hierarchical::new(settings.clustering.clone())?;
+    let central = TowardCentral::new(settings.pushing.clone(), problem.clone())?;
+    let socp = Socp::new(settings.socp.clone(), problem.clone())?;
+    // Whether a row fits the jaws at all: the same problem with friction that never lets go.
+    let fits_problem = Problem::new(
+        GraspModel::unlimited_friction(),
+        problem.fork().clone(),
+        problem.min_push(),
+        problem.time_model().clone(),
+    )?;
+    let fits = MultiObject::new(
+        MultiObjectSettings {
+            samples: 1,
+            clearance_sigmas: 0.0,
+            ..MultiObjectSettings::default()
+        },
+        fits_problem,
+    )?;
+    let holds = MultiObject::new(MultiObjectSettings::default(), problem)?;
     let mut rows = Vec::with_capacity(seeds.clone().count());
     for seed in seeds {
         let scene = generate_scene(generator, set, seed)?;

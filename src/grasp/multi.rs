@@ -37,12 +37,13 @@ use std::time::Instant;
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, row_in_scene, squeeze};
+use super::model::{Squeeze, row_in_scene, squeeze};
 use super::outcome::{GraspOutcome, ModelOutcome, Noise, failures_allowed};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
 use crate::scene::{ObjectId, Scene};
 
 /// Settings of [`MultiObject`].
@@ -58,10 +59,6 @@ pub struct MultiObjectSettings {
     pub angles: usize,
     /// Jaw opening as a fraction of the stroke. Default 1.0 (fully open, as in the paper).
     pub opening_fraction: f64,
-    /// The grasp model. In a policy's settings it is set once for every stage
-    /// (`PolicySettings::grasp_model`).
-    #[serde(skip)]
-    pub model: GraspModel,
     /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
     /// Default 8: with `min_probability` 0.75 a grasp may fail in at most two of them. With 4 (one
     /// failure allowed) and the policies choosing pairs over single objects (`plan_several`),
@@ -88,7 +85,6 @@ impl Default for MultiObjectSettings {
             grid: [7, 10],
             angles: 24,
             opening_fraction: 1.0,
-            model: GraspModel::default(),
             samples: 8,
             noise: Noise::default(),
             clearance_sigmas: 1.5,
@@ -158,8 +154,7 @@ impl MultiObjectSettings {
                 "judged candidates: at least one, and at most 1000 per call (each is a judgement)",
             )?;
         }
-        self.noise.validate()?;
-        self.model.validate()
+        self.noise.validate()
     }
 }
 
@@ -167,51 +162,49 @@ impl MultiObjectSettings {
 #[derive(Clone, Debug)]
 pub struct MultiObject {
     settings: MultiObjectSettings,
+    problem: Arc<Problem>,
     outcome: Arc<dyn GraspOutcome>,
 }
 
 impl Default for MultiObject {
     fn default() -> Self {
-        let settings = MultiObjectSettings::default();
-        Self {
-            outcome: Arc::new(ModelOutcome::new(
-                settings.model.clone(),
-                settings.samples,
-                settings.noise.clone(),
-            )),
-            settings,
-        }
+        Self::new(MultiObjectSettings::default(), Problem::shared_default())
+            .expect("the default settings are valid")
     }
 }
 
 impl MultiObject {
-    /// A planner with these settings, judging candidates with its grasp model (robustly when
-    /// `samples > 1`).
+    /// A planner with these settings, judging candidates with the problem's grasp model (robustly
+    /// when `samples > 1`).
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
-    pub fn new(settings: MultiObjectSettings) -> Result<Self> {
+    pub fn new(settings: MultiObjectSettings, problem: Arc<Problem>) -> Result<Self> {
         settings.validate()?;
-        Ok(Self {
-            outcome: Arc::new(ModelOutcome::new(
-                settings.model.clone(),
-                settings.samples,
-                settings.noise.clone(),
-            )),
-            settings,
-        })
+        let outcome = Arc::new(ModelOutcome::new(
+            problem.grasp_model().clone(),
+            settings.samples,
+            settings.noise.clone(),
+        ));
+        Self::with_outcome(settings, problem, outcome)
     }
 
-    /// A planner with these settings judging candidates with `outcome` (a physics rollout, say).
+    /// A planner with these settings judging candidates with `outcome` (a physics rollout, say);
+    /// the problem's grasp model still screens them (which objects the jaws catch in a row).
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn with_outcome(
         settings: MultiObjectSettings,
+        problem: Arc<Problem>,
         outcome: Arc<dyn GraspOutcome>,
     ) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings, outcome })
+        Ok(Self {
+            settings,
+            problem,
+            outcome,
+        })
     }
 
     /// Whether the outcome model, judging `jaws` on `scene` (the objects `pushed` with their push
@@ -431,7 +424,7 @@ impl MultiObject {
                 *refusals.entry("failed before").or_default() += 1;
                 continue;
             }
-            let caught = match row_in_scene(scene, jaws, &settings.model) {
+            let caught = match row_in_scene(scene, jaws, self.problem.grasp_model()) {
                 Ok(caught) => caught,
                 Err(refusal) => {
                     *refusals.entry(refusal_name(&refusal)).or_default() += 1;
@@ -644,7 +637,7 @@ impl MultiObject {
                 continue;
             }
             let held = matches!(
-                squeeze(scene, &jaws, &self.settings.model),
+                squeeze(scene, &jaws, self.problem.grasp_model()),
                 Squeeze::Held { ref objects, .. } if objects.len() == caught.len()
             );
             if !held {

@@ -6,15 +6,17 @@
 //! close). Candidates whose jaws catch this object alone are ordered by clearance to other objects,
 //! then narrowest first, and the first the grasp model predicts held wins.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::model::{GraspModel, Squeeze, plate_clearance, row_in_scene, squeeze};
+use super::model::{Squeeze, plate_clearance, row_in_scene, squeeze};
 use super::{Grasp, GraspPlanner, JawPose};
 use crate::error::Result;
 use crate::geometry::edge_grasps;
 use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
 use crate::scene::{ObjectId, Scene};
 
 /// Settings of [`SingleObject`].
@@ -24,18 +26,11 @@ pub struct SingleObjectSettings {
     /// Gap between each open plate and the object, metres; half of it is tried too when neighbours
     /// are close. Default 0.01.
     pub clearance: f64,
-    /// The grasp model. In a policy's settings it is set once for every stage
-    /// (`PolicySettings::grasp_model`).
-    #[serde(skip)]
-    pub model: GraspModel,
 }
 
 impl Default for SingleObjectSettings {
     fn default() -> Self {
-        Self {
-            clearance: 0.01,
-            model: GraspModel::default(),
-        }
+        Self { clearance: 0.01 }
     }
 }
 
@@ -51,25 +46,34 @@ impl SingleObjectSettings {
             self.clearance,
             (0.0, 0.05),
             "metres each side, within the stroke",
-        )?;
-        self.model.validate()
+        )
     }
 }
 
 /// Single-object grasps.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct SingleObject {
     settings: SingleObjectSettings,
+    problem: Arc<Problem>,
+}
+
+impl Default for SingleObject {
+    fn default() -> Self {
+        Self {
+            settings: SingleObjectSettings::default(),
+            problem: Problem::shared_default(),
+        }
+    }
 }
 
 impl SingleObject {
-    /// A planner with these settings.
+    /// A planner with these settings, judging grasps with the problem's grasp model.
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
-    pub fn new(settings: SingleObjectSettings) -> Result<Self> {
+    pub fn new(settings: SingleObjectSettings, problem: Arc<Problem>) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings })
+        Ok(Self { settings, problem })
     }
 
     /// The effective settings.
@@ -107,7 +111,7 @@ impl SingleObject {
                     opening,
                 };
                 *evaluated += 1;
-                match row_in_scene(scene, &jaws, &self.settings.model) {
+                match row_in_scene(scene, &jaws, self.problem.grasp_model()) {
                     Ok(caught) if caught == [index] => {
                         let margin = plate_clearance(scene, &jaws, &caught, 0.05);
                         candidates.push((margin, candidate.diameter, jaws));
@@ -144,7 +148,7 @@ impl SingleObject {
         // Most clearance first, then the narrowest; the first the model holds wins.
         candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.total_cmp(&b.1)));
         for (margin, _, jaws) in candidates {
-            match squeeze(scene, &jaws, &self.settings.model) {
+            match squeeze(scene, &jaws, self.problem.grasp_model()) {
                 Squeeze::Held { objects, width } if objects == [index] => {
                     return Ok(Grasp {
                         jaws,

@@ -133,7 +133,7 @@ impl Policy {
             let reversed: Vec<Vec<ObjectId>> = forward.members.iter().rev().cloned().collect();
             let backward = self.plan_batch(pusher, observed, &reversed, &grasp, context)?;
             let seconds = |batch: &Batch| {
-                let model = &self.settings.time_model;
+                let model = self.problem.time_model();
                 let jaws = grasp_path(&batch.standing, observed.gripper());
                 model.trip_seconds(observed.gripper(), &push_paths(&batch.pushes), &jaws)
             };

@@ -34,13 +34,16 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
+use crate::cluster::{
+    Clusterer, FlushPairs, Hierarchical, HierarchicalSettings, Milp, MilpSettings, RowTest,
+};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
 use crate::grasp::{
     Grasp, GraspModel, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
 };
 use crate::plan::Plan;
+use crate::problem::Problem;
 use crate::push::{
     ForkSettings, PushPlanner, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
 };
@@ -135,10 +138,11 @@ impl FromStr for PolicyKind {
     }
 }
 
-/// Settings of every stage of a policy and of the loop. Each physical setting is set once here and
-/// shared by every stage that needs it (the grasp model, the fork-push geometry, the shortest push,
-/// the time model, the heuristic clustering that seeds the MILP); the stages' own copies are filled
-/// from these when the policy is built and are not read from settings files.
+/// Settings of every stage of a policy and of the loop. What every stage must agree on (the grasp
+/// model, the fork-push geometry, the shortest push, the time model) is set once here and built
+/// into one [`Problem`] ([`PolicySettings::problem`]) that the policy hands to each stage; the MILP
+/// is seeded by `clustering` and proposes the rows the push planner can make
+/// ([`PolicySettings::row_test`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PolicySettings {
@@ -230,52 +234,57 @@ impl PolicySettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        self.effective().validate_stages()
+        self.problem()?;
+        self.validate_stages()
     }
 
-    /// The settings with every stage's copy of a shared setting filled from its single source.
-    pub fn effective(&self) -> Self {
-        let mut s = self.clone();
-        s.milp.time_model = s.time_model.clone();
-        s.milp.heuristic = s.clustering.clone();
-        s.milp.min_push = s.min_push;
-        s.milp.row_margin = s.socp.margin;
-        // With flush pushes the clustering proposes only pairs a flush push lines up (cleared
-        // again by the builder when the policy's pushes are not the SOCP's).
-        s.milp.flush_pairs = s.socp.flush.then_some(crate::cluster::FlushPairs {
-            straddle: s.socp.straddle,
-            margin: s.socp.flush_margin,
-            cone: s.socp.flush_cone,
-            tight: s.socp.flush_gap,
-        });
-        s.pushing.fork = s.fork.clone();
-        s.pushing.min_push = s.min_push;
-        s.socp.model = s.grasp_model.clone();
-        s.socp.fork = s.fork.clone();
-        s.socp.min_push = s.min_push;
-        s.socp.time_model = s.time_model.clone();
-        s.single.model = s.grasp_model.clone();
-        s.multi.model = s.grasp_model.clone();
-        s
+    /// The problem every stage of the policy shares, built and checked once: the grasp model, the
+    /// fork, `min_push` and the time model.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn problem(&self) -> Result<Arc<Problem>> {
+        Problem::new(
+            self.grasp_model.clone(),
+            self.fork.clone(),
+            self.min_push,
+            self.time_model.clone(),
+        )
+    }
+
+    /// The MILP's candidate test that follows this policy's push planner: rows leave the SOCP's
+    /// margin, and with flush pushes only pairs a flush push lines up.
+    pub fn row_test(&self) -> RowTest {
+        RowTest {
+            margin: self.socp.margin,
+            flush_pairs: self.socp.flush.then_some(FlushPairs {
+                straddle: self.socp.straddle,
+                margin: self.socp.flush_margin,
+                cone: self.socp.flush_cone,
+                tight: self.socp.flush_gap,
+            }),
+        }
+    }
+
+    /// The MILP clusterer of these settings: `milp` with the shared `problem`, proposing the
+    /// clusters that pass `rows` (in a policy whose pushes are the SOCP's, [`Self::row_test`]),
+    /// seeded by the `clustering` heuristic.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the field.
+    pub fn milp_clusterer(&self, problem: Arc<Problem>, rows: RowTest) -> Result<Milp> {
+        Ok(Milp::new(self.milp.clone(), problem)?
+            .with_rows(rows)?
+            .seeded_by(Hierarchical::new(self.clustering.clone())?))
     }
 
     fn validate_stages(&self) -> Result<()> {
-        if !(self.min_push.is_finite() && (0.0..=0.1).contains(&self.min_push)) {
-            return Err(Error::field(
-                "policy",
-                "min_push",
-                format!("must be between 0 and 0.1 m, got {}", self.min_push),
-            ));
-        }
-        self.grasp_model.validate()?;
-        self.fork.validate()?;
         self.clustering.validate()?;
         self.milp.validate()?;
         self.pushing.validate()?;
         self.socp.validate()?;
         self.single.validate()?;
         self.multi.validate()?;
-        self.time_model.validate()?;
         self.pricing.validate()?;
         crate::error::count_in_range(
             "run",
@@ -363,6 +372,8 @@ pub struct Policy {
     pusher: Option<Arc<dyn PolicyPusher>>,
     single: SingleObject,
     multi: MultiObject,
+    /// What every stage shares, built once from `settings`.
+    problem: Arc<Problem>,
 }
 
 /// Builds a [`Policy`] from a preset, replacing any of its parts.
@@ -422,14 +433,20 @@ impl PolicyBuilder {
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn build(self) -> Result<Policy> {
-        self.settings.validate()?;
-        let mut settings = self.settings.effective();
+        let settings = self.settings;
+        settings.validate()?;
+        let problem = settings.problem()?;
         // The clustering's pair test follows flush pushes only when the SOCP makes the pushes.
         let pusher_kind = self.parts.1.unwrap_or(self.kind.pusher());
-        if self.pusher.is_some() || pusher_kind != PusherKind::Socp {
-            settings.milp.flush_pairs = None;
-        }
-        let multi = multi_object(&settings)?;
+        let rows = if self.pusher.is_some() || pusher_kind != PusherKind::Socp {
+            RowTest {
+                flush_pairs: None,
+                ..settings.row_test()
+            }
+        } else {
+            settings.row_test()
+        };
+        let multi = multi_object(&settings, &problem)?;
         let clusterer = match self.clusterer {
             Some(chosen) => chosen,
             None => match self.parts.0.unwrap_or(self.kind.clusterer()) {
@@ -438,42 +455,46 @@ impl PolicyBuilder {
                     Some(Arc::new(Hierarchical::new(settings.clustering.clone())?)
                         as Arc<dyn PolicyClusterer>)
                 }
-                Some(ClustererKind::Milp) => Some(Arc::new(Milp::new(settings.milp.clone())?) as _),
+                Some(ClustererKind::Milp) => {
+                    Some(Arc::new(settings.milp_clusterer(problem.clone(), rows)?) as _)
+                }
             },
         };
         let pusher = match self.pusher {
             Some(chosen) => chosen,
             None => match self.parts.1.unwrap_or(self.kind.pusher()) {
                 PusherKind::None => None,
-                PusherKind::TowardCentral => {
-                    Some(Arc::new(TowardCentral::new(settings.pushing.clone())?)
-                        as Arc<dyn PolicyPusher>)
-                }
-                PusherKind::Socp => {
-                    Some(Arc::new(Socp::new(settings.socp.clone())?.with_judge(multi.clone())) as _)
-                }
+                PusherKind::TowardCentral => Some(Arc::new(TowardCentral::new(
+                    settings.pushing.clone(),
+                    problem.clone(),
+                )?) as Arc<dyn PolicyPusher>),
+                PusherKind::Socp => Some(Arc::new(
+                    Socp::new(settings.socp.clone(), problem.clone())?.with_judge(multi.clone()),
+                ) as _),
             },
         };
         Ok(Policy {
             kind: self.kind,
             clusterer,
             pusher,
-            single: SingleObject::new(settings.single.clone())?,
+            single: SingleObject::new(settings.single.clone(), problem.clone())?,
             multi,
+            problem,
             settings,
         })
     }
 }
 
 /// The multi-object planner: judged by the grasp model, or by rollouts in the simulator.
-fn multi_object(settings: &PolicySettings) -> Result<MultiObject> {
+fn multi_object(settings: &PolicySettings, problem: &Arc<Problem>) -> Result<MultiObject> {
     if !settings.rollout {
-        return MultiObject::new(settings.multi.clone());
+        return MultiObject::new(settings.multi.clone(), problem.clone());
     }
     #[cfg(feature = "sim")]
     {
         MultiObject::with_outcome(
             settings.multi.clone(),
+            problem.clone(),
             Arc::new(crate::exec::Rollout {
                 settings: crate::exec::SimSettings::default(),
                 samples: settings.multi.samples,
@@ -524,14 +545,19 @@ impl Policy {
         self.kind
     }
 
-    /// The effective settings.
+    /// The settings the policy was built with.
     pub fn settings(&self) -> &PolicySettings {
         &self.settings
     }
 
+    /// The problem every stage of the policy shares.
+    pub fn problem(&self) -> &Arc<Problem> {
+        &self.problem
+    }
+
     /// An executor that applies this policy's plans exactly, judging grasps with its grasp model.
     pub fn ideal(&self) -> Ideal {
-        Ideal::new(self.settings.grasp_model.clone())
+        Ideal::new(self.problem.grasp_model().clone())
     }
 
     /// Grasps of `targets` the multi-object planner refuses although they catch two or more objects

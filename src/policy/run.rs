@@ -306,7 +306,7 @@ impl<'a> Run<'a> {
         let settings = self.policy.settings();
         Plan {
             seconds: run_seconds(
-                &settings.time_model,
+                self.policy.problem().time_model(),
                 &self.gripper,
                 &trips,
                 self.failed_attempts.len(),

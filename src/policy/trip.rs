@@ -392,7 +392,7 @@ impl Policy {
                 for (_, direction) in &directions {
                     let Ok(push) = separating_push(
                         observed,
-                        &self.settings.fork,
+                        self.problem.fork(),
                         (index, neighbour),
                         direction,
                         travel,
@@ -591,7 +591,7 @@ impl Policy {
         let settings = &self.settings;
         (settings.pricing.objective == super::TripObjective::ExpectedTime).then(|| {
             settings.pricing.saving(
-                &settings.time_model,
+                self.problem.time_model(),
                 observed.gripper(),
                 planned,
                 judged.counter("probability").unwrap_or(0.0),

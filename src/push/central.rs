@@ -12,16 +12,18 @@
 //! object in the way is outside the cluster, the push is skipped with that reason; pushes shorter than
 //! `min_push` are skipped as already in place.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::fork::{ForkSettings, plan_fork};
+use super::fork::plan_fork;
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
 use crate::scene::{ObjectId, Pose, Scene};
 
 /// Settings of [`TowardCentral`].
@@ -32,23 +34,11 @@ pub struct TowardCentralSettings {
     /// objects end touching, as in the paper. On 100 simulated scenes a 2 mm gap carried 0.038 fewer
     /// objects per trip (`formulations/pushing.md`).
     pub stop_gap: f64,
-    /// Pushes shorter than this are not made, metres. Default 0.003. In a policy's settings it is
-    /// set once for every stage (`PolicySettings::min_push`).
-    #[serde(skip)]
-    pub min_push: f64,
-    /// Fork-push geometry. In a policy's settings it is set once for every stage
-    /// (`PolicySettings::fork`).
-    #[serde(skip)]
-    pub fork: ForkSettings,
 }
 
 impl Default for TowardCentralSettings {
     fn default() -> Self {
-        Self {
-            stop_gap: 0.0,
-            min_push: 0.003,
-            fork: ForkSettings::default(),
-        }
+        Self { stop_gap: 0.0 }
     }
 }
 
@@ -58,27 +48,35 @@ impl TowardCentralSettings {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        for (field, value) in [("stop_gap", self.stop_gap), ("min_push", self.min_push)] {
-            crate::error::in_range("pushing", field, value, (0.0, 0.1), "metres")?;
-        }
-        self.fork.validate()
+        crate::error::in_range("pushing", "stop_gap", self.stop_gap, (0.0, 0.1), "metres")
     }
 }
 
 /// Pushes toward the cluster's central object (the paper's Algorithm 3).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct TowardCentral {
     settings: TowardCentralSettings,
+    problem: Arc<Problem>,
+}
+
+impl Default for TowardCentral {
+    fn default() -> Self {
+        Self {
+            settings: TowardCentralSettings::default(),
+            problem: Problem::shared_default(),
+        }
+    }
 }
 
 impl TowardCentral {
-    /// A planner with these settings.
+    /// A planner with these settings, making fork pushes of the problem's geometry and none
+    /// shorter than its `min_push`.
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
-    pub fn new(settings: TowardCentralSettings) -> Result<Self> {
+    pub fn new(settings: TowardCentralSettings, problem: Arc<Problem>) -> Result<Self> {
         settings.validate()?;
-        Ok(Self { settings })
+        Ok(Self { settings, problem })
     }
 
     /// The effective settings.
@@ -155,7 +153,7 @@ impl TowardCentral {
         let start = world[index].centroid();
         let offset = target - start;
         let reach = offset.norm();
-        if reach <= self.settings.min_push {
+        if reach <= self.problem.min_push() {
             return Err(SkipReason::AlreadyInPlace);
         }
         let direction = offset / reach;
@@ -181,12 +179,12 @@ impl TowardCentral {
             });
         }
         let distance = free - self.settings.stop_gap;
-        if distance < self.settings.min_push {
+        if distance < self.problem.min_push() {
             return Err(SkipReason::AlreadyInPlace);
         }
         let fork = plan_fork(
             scene.gripper(),
-            &self.settings.fork,
+            self.problem.fork(),
             world,
             ids,
             index,

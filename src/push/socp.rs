@@ -41,6 +41,7 @@
 //! straight sweep then stays on its side.
 
 use std::cell::Cell;
+use std::sync::Arc;
 use std::time::Instant;
 
 use clarabel::solver::SolverStatus;
@@ -50,15 +51,15 @@ use serde::{Deserialize, Serialize};
 use super::flush::{
     Face, PairRow, block_opening, cone_directions, flush_face, flush_faces, pair_axis,
 };
-use super::fork::{ForkSettings, plan_fork_facing};
+use super::fork::plan_fork_facing;
 use super::row::{Fence, Motion, RowProblem, RowSolution, lower_bound, solve_row};
 use super::{Push, PushPlan, PushPlanner, SkipReason, SkippedPush, predict};
 use crate::error::Result;
 use crate::geometry::{ConvexPolygon, cast_distance, convex_hull, max_separation};
-use crate::grasp::{Body, GraspModel, JawPose, Memory, MultiObject, Squeeze, squeeze};
+use crate::grasp::{Body, JawPose, Memory, MultiObject, Squeeze, squeeze};
 use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
 use crate::scene::{ObjectId, Pose, Scene};
-use crate::time_model::TimeModel;
 
 /// Settings of [`Socp`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -96,10 +97,6 @@ pub struct SocpSettings {
     pub clearance: f64,
     /// Outside objects further than this from every member are ignored, metres. Default 0.15.
     pub neighbourhood: f64,
-    /// Moves shorter than this are not made, metres. Default 0.003. In a policy's settings it is set
-    /// once for every stage (`PolicySettings::min_push`).
-    #[serde(skip)]
-    pub min_push: f64,
     /// Among rows that can be pushed into place, take the cheapest one the grasp model predicts held
     /// (the cheapest of all when none is). Default true.
     pub prefer_held_rows: bool,
@@ -134,18 +131,6 @@ pub struct SocpSettings {
     /// the two allow and the jaws have room on both sides, instead of the row just fitting the
     /// jaws less the margin, as the least push would leave it.
     pub flush_gap: f64,
-
-    /// The grasp model that judges rows. In a policy's settings it is set once for every stage
-    /// (`PolicySettings::grasp_model`).
-    #[serde(skip)]
-    pub model: GraspModel,
-    /// Fork-push geometry. In a policy's settings it is set once (`PolicySettings::fork`).
-    #[serde(skip)]
-    pub fork: ForkSettings,
-    /// Seconds of a push, to choose which members move. In a policy's settings it is the
-    /// policy's (`PolicySettings::time_model`).
-    #[serde(skip)]
-    pub time_model: TimeModel,
 }
 
 impl Default for SocpSettings {
@@ -160,16 +145,12 @@ impl Default for SocpSettings {
             edge_margin: 0.005,
             clearance: 0.002,
             neighbourhood: 0.15,
-            min_push: 0.003,
             prefer_held_rows: true,
             robust_rows: true,
             flush: false,
             flush_margin: 0.002,
             flush_cone: 0.19,
             flush_gap: 0.003,
-            model: GraspModel::default(),
-            fork: ForkSettings::default(),
-            time_model: TimeModel::default(),
         }
     }
 }
@@ -192,7 +173,7 @@ impl SocpSettings {
         for (field, value, range, why) in counts {
             crate::error::count_in_range("socp", field, value, range, why)?;
         }
-        let lengths: [(&str, f64, (f64, f64)); 10] = [
+        let lengths: [(&str, f64, (f64, f64)); 9] = [
             ("margin", self.margin, (0.0, 0.05)),
             ("gap", self.gap, (0.0, 0.02)),
             ("straddle", self.straddle, (0.0, 0.05)),
@@ -200,7 +181,6 @@ impl SocpSettings {
             ("edge_margin", self.edge_margin, (0.0, 0.05)),
             ("clearance", self.clearance, (0.0, 0.05)),
             ("neighbourhood", self.neighbourhood, (0.0, 2.0)),
-            ("min_push", self.min_push, (0.0, 0.1)),
             ("flush_margin", self.flush_margin, (0.0, 0.02)),
             ("flush_gap", self.flush_gap, (0.0, 0.05)),
         ];
@@ -213,21 +193,32 @@ impl SocpSettings {
             self.flush_cone,
             (0.0, 0.6),
             "radians off a face's normal; beyond atan 0.6 (31°) the pads slip on any known surface",
-        )?;
-        self.model.validate()?;
-        self.fork.validate()
+        )
     }
 }
 
 /// Push targets from the row SOCP.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Socp {
     settings: SocpSettings,
+    /// What every stage agrees on: the grasp model, the fork, `min_push` and the time model.
+    problem: Arc<Problem>,
     /// Closings of perfect rows already judged (`grasp/memory.rs`): the same cluster is planned
     /// again on later trips.
     memory: Memory,
     /// The policy's multi-object planner, judging rows under noise when `robust_rows` is set.
     judge: Option<MultiObject>,
+}
+
+impl Default for Socp {
+    fn default() -> Self {
+        Self {
+            settings: SocpSettings::default(),
+            problem: Problem::shared_default(),
+            memory: Memory::default(),
+            judge: None,
+        }
+    }
 }
 
 /// A solved row turned into pushes.
@@ -240,14 +231,17 @@ struct Attempt {
 }
 
 impl Socp {
-    /// A planner with these settings.
+    /// A planner with these settings, judging rows with the problem's grasp model, making fork pushes
+    /// of its geometry, none shorter than its `min_push`, and choosing which members move by its
+    /// time model.
     ///
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
-    pub fn new(settings: SocpSettings) -> Result<Self> {
+    pub fn new(settings: SocpSettings, problem: Arc<Problem>) -> Result<Self> {
         settings.validate()?;
         Ok(Self {
             settings,
+            problem,
             memory: Memory::default(),
             judge: None,
         })
@@ -390,7 +384,7 @@ impl Socp {
             })
             .collect();
         matches!(
-            self.memory.squeeze(&bodies, gripper, &jaws, &self.settings.model),
+            self.memory.squeeze(&bodies, gripper, &jaws, self.problem.grasp_model()),
             Squeeze::Held { objects, .. } if objects.len() == order.len()
         )
     }
@@ -415,7 +409,7 @@ impl Socp {
                     .collect();
                 judge.carries(&after, jaws, &pushed, members)
             }
-            None => matches!(squeeze(&after, jaws, &self.settings.model),
+            None => matches!(squeeze(&after, jaws, self.problem.grasp_model()),
                 Squeeze::Held { objects, .. } if members.iter().all(|m| objects.contains(m))),
         }
     }
@@ -522,7 +516,7 @@ impl Socp {
         };
         let fork = plan_fork_facing(
             gripper,
-            &self.settings.fork,
+            self.problem.fork(),
             world,
             ids,
             index,
@@ -557,7 +551,7 @@ impl Socp {
     ) -> Option<Vec<(Push, Vector2<f64>)>> {
         let along = axis * offset.dot(axis);
         let across = offset - along;
-        if along.norm() < self.settings.min_push || across.norm() < self.settings.min_push {
+        if along.norm() < self.problem.min_push() || across.norm() < self.problem.min_push() {
             return None;
         }
         let from = scene.objects()[index].pose;
@@ -700,7 +694,7 @@ impl PushPlanner for Socp {
             .collect();
         let masses: Vec<f64> = members
             .iter()
-            .map(|&i| self.settings.model.mass_of(&scene.objects()[i]))
+            .map(|&i| self.problem.grasp_model().mass_of(&scene.objects()[i]))
             .collect();
         let fences = self.fences(scene, &members, &outlines);
         let gripper = scene.gripper();
@@ -759,7 +753,7 @@ impl PushPlanner for Socp {
                     }
                 }
                 for (m, &hold) in fixed.iter().enumerate() {
-                    if hold || nalgebra::distance(&targets[m], &starts[m]) < self.settings.min_push
+                    if hold || nalgebra::distance(&targets[m], &starts[m]) < self.problem.min_push()
                     {
                         targets[m] = starts[m];
                     }
@@ -800,7 +794,7 @@ impl PushPlanner for Socp {
             let mut fixed: Vec<bool> = moves
                 .iter()
                 .zip(&base.fixed)
-                .map(|(&d, &held)| held || d < self.settings.min_push)
+                .map(|(&d, &held)| held || d < self.problem.min_push())
                 .collect();
             // Every member within `min_push` of its target does not make the row: their small
             // offsets add up across it. Only the member nearest its target is held then (with
@@ -833,8 +827,8 @@ impl PushPlanner for Socp {
                     pushes
                         .iter()
                         .map(|p| {
-                            self.settings
-                                .time_model
+                            self.problem
+                                .time_model()
                                 .nominal_push_seconds(gripper, p.distance)
                         })
                         .sum()

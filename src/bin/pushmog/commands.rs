@@ -16,6 +16,7 @@ use pushmog::experiment::{
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, RunStatus, verify as verify_plan};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::problem::Problem;
 use pushmog::render::{RenderOptions, plan_svg, replay_html, scene_svg};
 use pushmog::scene::{
     GeneratorSettings, ObjectSet, Scene, Workspace, builtin_object_set, generate_scene,
@@ -310,17 +311,20 @@ pub fn cluster(args: &ClusterArgs) -> Result<()> {
         Some(path) => {
             let settings: PolicySettings = settings_or_default(Some(path))?;
             settings.validate()?;
-            Some(settings.effective())
+            Some(settings)
         }
         None => None,
     };
     let outcome = match args.method.as_str() {
         "milp" => {
             let milp = match &policy {
-                Some(policy) => policy.milp.clone(),
-                None => settings_or_default::<MilpSettings>(settings)?,
+                Some(policy) => policy.milp_clusterer(policy.problem()?, policy.row_test())?,
+                None => Milp::new(
+                    settings_or_default::<MilpSettings>(settings)?,
+                    Problem::shared_default(),
+                )?,
             };
-            Milp::new(milp)?.cluster(&scene)?
+            milp.cluster(&scene)?
         }
         "hierarchical" => {
             let hierarchical = match &policy {
@@ -364,7 +368,10 @@ pub fn cluster(args: &ClusterArgs) -> Result<()> {
 }
 
 pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
-    let milp: MilpSettings = settings_or_default(args.settings.as_deref())?;
+    let milp = Milp::new(
+        settings_or_default::<MilpSettings>(args.settings.as_deref())?,
+        Problem::shared_default(),
+    )?;
     // Keep the default object density when the count changes: area grows with the count.
     let base = GeneratorSettings::default();
     let scale = (args.objects as f64 / base.objects as f64).sqrt().max(1.0);
@@ -431,9 +438,7 @@ pub fn compare_pushing(args: &ComparePushingArgs) -> Result<()> {
     let rows = pushmog::experiment::compare_pushing(
         &GeneratorSettings::default(),
         &builtin_object_set(),
-        &settings.clustering,
-        &settings.pushing,
-        &settings.socp,
+        &settings,
         args.seed..args.seed + args.scenes as u64,
         &mut |done| {
             if done % 10 == 0 || done == args.scenes {
