@@ -4,8 +4,9 @@
 use crate::support::boxes;
 use nalgebra::Point2;
 use pushmog::cluster::{
-    ClusterObjective, Clusterer, CostModel, Hierarchical, HierarchicalSettings, Milp, MilpSettings,
-    RowTest, admits_row, centroid_diameter, compact_candidates, fits_jaws, split_unrowable,
+    ClusterMemory, ClusterObjective, Clusterer, CostModel, Hierarchical, HierarchicalSettings,
+    Milp, MilpSettings, RowTest, admits_row, centroid_diameter, compact_candidates, fits_jaws,
+    split_unrowable,
 };
 use pushmog::experiment::compare_clustering;
 use pushmog::geometry::{ConvexPolygon, separating_line};
@@ -423,7 +424,8 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
             (scene, MilpSettings::default())
         };
         let milp = Milp::new(settings.clone(), Problem::shared_default()).unwrap();
-        let mut outcome = milp.cluster(&scene).unwrap();
+        let mut memory = ClusterMemory::default();
+        let mut outcome = milp.cluster_remembering(&scene, &mut memory).unwrap();
         // Carry away the largest cluster each time, as the closed loop does, until the table is clear.
         while !scene.is_empty() {
             let carried = outcome
@@ -434,7 +436,7 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
                 .unwrap()
                 .clone();
             scene = scene.without(&carried);
-            outcome = milp.cluster(&scene).unwrap();
+            outcome = milp.cluster_remembering(&scene, &mut memory).unwrap();
             let fresh = Milp::new(settings.clone(), Problem::shared_default())
                 .unwrap()
                 .cluster(&scene)
@@ -469,20 +471,21 @@ fn a_reused_optimum_is_as_good_as_a_fresh_solve_and_a_moved_object_forces_a_solv
     // Nudging one object that stays on the table forbids the reuse.
     let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
     let milp = Milp::new(MilpSettings::default(), Problem::shared_default()).unwrap();
-    let first = milp.cluster(&scene).unwrap();
+    let mut memory = ClusterMemory::default();
+    let first = milp.cluster_remembering(&scene, &mut memory).unwrap();
     let carried = first.value.clusters[0].clone();
     let rest = scene.without(&carried);
     let mut objects = rest.objects().to_vec();
     objects[0].pose.x += 1e-4;
     let nudged = rest.with_objects(objects).unwrap();
-    let again = milp.cluster(&nudged).unwrap();
+    let again = milp.cluster_remembering(&nudged, &mut memory).unwrap();
     assert_eq!(counter(&again, "reused"), 0.0);
     assert!(counter(&again, "solves") >= 1.0);
-    // Unchanged, it is reused.
-    let third = milp
-        .cluster(&nudged.without(&again.value.clusters[0]))
-        .unwrap();
+    // Unchanged, it is reused; without the memory (`cluster`) it is solved afresh.
+    let rest = nudged.without(&again.value.clusters[0]);
+    let third = milp.cluster_remembering(&rest, &mut memory).unwrap();
     assert_eq!(counter(&third, "reused"), 1.0);
+    assert_eq!(counter(&milp.cluster(&rest).unwrap(), "reused"), 0.0);
 }
 
 #[test]

@@ -119,6 +119,35 @@ fn runs_are_reproducible() {
     );
 }
 
+/// A policy keeps no state between calls (what a run remembers travels in its `TripContext`): one
+/// that has cleared other tables, and planned trips of this one, plans a run and a trip exactly as a
+/// fresh one does, for every policy.
+#[test]
+fn a_used_policy_plans_as_a_fresh_one() {
+    use pushmog::policy::TripContext;
+    for kind in PolicyKind::ALL {
+        let used = Policy::new(kind, PolicySettings::default()).unwrap();
+        let mut executor = used.ideal();
+        used.run(&scene(1), &mut executor, 1).unwrap();
+        let table = scene(3);
+        // The table less the first trip's grasp, as the next trip finds it.
+        let first = used.plan_trip(&table).unwrap().value.unwrap();
+        let later = table.without(&first.grasp.objects);
+        used.plan_trip(&table).unwrap();
+        let fresh = Policy::new(kind, PolicySettings::default()).unwrap();
+        let trip = |policy: &Policy| {
+            let mut context = TripContext::new(5);
+            policy.plan_trip_with(&later, &mut context).unwrap().value
+        };
+        assert_eq!(trip(&used), trip(&fresh), "{kind}");
+        let whole = |policy: &Policy| {
+            let mut executor = policy.ideal();
+            policy.run(&table, &mut executor, 3).unwrap()
+        };
+        assert_eq!(whole(&used), whole(&fresh), "{kind}");
+    }
+}
+
 /// Two 7 × 50 mm bars stranded 2 mm apart and 1.5° off parallel (what pushing thin bars together can
 /// leave): too close for a plate between them, and a row the grasp model may refuse. Every policy
 /// that may grasp several objects clears them, with plans applied exactly and in the simulator; no

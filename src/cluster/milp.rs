@@ -15,8 +15,9 @@
 //! answer as good as the heuristic's (time limit, failure) the heuristic's clustering is returned with
 //! the solver's status. After every solve the chosen clusters are checked geometrically; a clash the
 //! model missed would be added as a row and the model solved again. Under the time objective the last
-//! proven optimum is kept, and on the next table (the same one minus carried clusters) it is returned
-//! without a solve when provably still optimal (`reuse.rs`, `formulations/clustering.md`).
+//! proven optimum is kept in the caller's [`ClusterMemory`] ([`Clusterer::cluster_remembering`]), and
+//! on the next table (the same one minus carried clusters) it is returned without a solve when
+//! provably still optimal (`reuse.rs`, `formulations/clustering.md`).
 
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -32,7 +33,7 @@ use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
 use super::decompose;
 use super::hierarchical::Hierarchical;
 use super::objective::{ClusterObjective, CostModel, centroid_diameter, spread};
-use super::reuse::{self, LastOptimum};
+use super::reuse::{self, ClusterMemory};
 use super::separability::separability_conflicts;
 use super::solved::Solved;
 use super::{Clusterer, Clustering};
@@ -219,8 +220,6 @@ pub struct Milp {
     rows: RowTest,
     /// The heuristic whose clusters join the candidates and warm-start the solver.
     heuristic: Hierarchical,
-    /// The last proven optimum (time objective), reused while it provably stays optimal.
-    last: LastOptimum,
 }
 
 /// The model's data, independent of the backend.
@@ -256,7 +255,6 @@ impl Milp {
             problem,
             rows: RowTest::default(),
             heuristic: Hierarchical::default(),
-            last: LastOptimum::default(),
         })
     }
 
@@ -596,6 +594,14 @@ impl Clusterer for Milp {
     }
 
     fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>> {
+        self.cluster_remembering(scene, &mut ClusterMemory::default())
+    }
+
+    fn cluster_remembering(
+        &self,
+        scene: &Scene,
+        memory: &mut ClusterMemory,
+    ) -> Result<Outcome<Clustering>> {
         let started = Instant::now();
         let settings = &self.settings;
         let heuristic = self.heuristic.cluster(scene)?;
@@ -727,7 +733,7 @@ impl Clusterer for Milp {
         let mut rounds = 0;
         // The previous optimum minus the carried clusters, when provably still optimal (`reuse.rs`).
         let reused = match settings.objective {
-            ClusterObjective::Time => self.last.still_optimal(scene, &candidates, &costs),
+            ClusterObjective::Time => memory.still_optimal(scene, &candidates, &costs),
             ClusterObjective::FewestClusters => None,
         };
         let mut parts = 0;
@@ -795,7 +801,7 @@ impl Clusterer for Milp {
         let proven = settings.objective == ClusterObjective::Time
             && solved.status == Status::Optimal
             && !fell_back;
-        self.last
+        memory
             .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
         let clustering = Clustering::from_indices(scene, &clusters).normalised();
         let mut counters = vec![

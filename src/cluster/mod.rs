@@ -31,6 +31,7 @@ pub use candidates::{Budget, clashing_pairs, compact_candidates, compact_candida
 pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
 pub use milp::{FlushPairs, Milp, MilpBackend, MilpSettings, RowTest};
 pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};
+pub use reuse::ClusterMemory;
 pub use separability::{repair_separability, separability_conflicts};
 pub use split::{SplitSettings, split_until_valid};
 
@@ -147,4 +148,19 @@ pub trait Clusterer {
     /// Only for misuse (invalid settings); a clustering problem with no good answer is reported in
     /// the outcome's status.
     fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>>;
+
+    /// As [`Clusterer::cluster`], with what earlier calls of the same run left in `memory` (the
+    /// MILP's last proven optimum, [`ClusterMemory`]); a clusterer that remembers nothing ignores
+    /// it. The closed loop calls this with the memory in the run's `policy::TripContext`.
+    ///
+    /// # Errors
+    /// As [`Clusterer::cluster`].
+    fn cluster_remembering(
+        &self,
+        scene: &Scene,
+        memory: &mut ClusterMemory,
+    ) -> Result<Outcome<Clustering>> {
+        let _ = memory;
+        self.cluster(scene)
+    }
 }

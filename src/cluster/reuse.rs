@@ -16,7 +16,6 @@
 //! test fail and the model is solved afresh.
 
 use std::collections::{HashMap, HashSet};
-use std::sync::Mutex;
 
 use nalgebra::Point2;
 
@@ -120,38 +119,33 @@ impl Previous {
     }
 }
 
-/// The last proven optimum a clusterer found, shared by the threads that use it.
-#[derive(Debug, Default)]
-pub(super) struct LastOptimum(Mutex<Option<Previous>>);
+/// What a clusterer remembers from one trip of a run to the next: the last proven optimum of the
+/// time objective, reused while it provably stays optimal (the module docs). It travels with the
+/// run (`policy::TripContext`), so a planner keeps no state between calls and two runs never
+/// share one; a fresh memory (the default) makes the clusterer solve afresh.
+#[derive(Clone, Debug, Default)]
+pub struct ClusterMemory(Option<Previous>);
 
-impl Clone for LastOptimum {
-    /// A copy remembers nothing.
-    fn clone(&self) -> Self {
-        Self::default()
-    }
-}
-
-impl LastOptimum {
-    fn lock(&self) -> std::sync::MutexGuard<'_, Option<Previous>> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    }
-
+impl ClusterMemory {
     /// [`Previous::still_optimal`] of the remembered optimum, if any.
-    pub fn still_optimal(
+    pub(super) fn still_optimal(
         &self,
         scene: &Scene,
         candidates: &[Vec<usize>],
         costs: &[f64],
     ) -> Option<Vec<usize>> {
-        self.lock()
+        self.0
             .as_ref()
             .and_then(|p| p.still_optimal(scene, candidates, costs))
     }
 
     /// Remembers `previous`, or forgets when `None`.
-    pub fn set(&self, previous: Option<Previous>) {
-        *self.lock() = previous;
+    pub(super) fn set(&mut self, previous: Option<Previous>) {
+        self.0 = previous;
+    }
+
+    /// Whether an optimum is remembered.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_none()
     }
 }

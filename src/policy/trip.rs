@@ -19,7 +19,7 @@ use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 use super::{Policy, PolicyClusterer, PolicyPusher};
-use crate::cluster::Clustering;
+use crate::cluster::{ClusterMemory, Clustering};
 use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
@@ -82,7 +82,8 @@ const SEPARATION_EDGE_MARGIN: f64 = 0.005;
 /// sets of objects whose multi-object grasps carried nothing (after [`GIVE_UP_AFTER`] such grasps,
 /// those objects are taken one at a time), and the pushes whose fingers came down on an object (if
 /// the camera cannot see it, the pushed object is not pushed again with the fingers lowered near
-/// there).
+/// there), and what the clusterer remembers (the MILP's last optimum). A policy keeps no state
+/// between calls: a trip's plan depends on the table and this context only.
 #[derive(Clone, Debug)]
 pub struct TripContext {
     pub(super) rng: SeededRng,
@@ -95,6 +96,8 @@ pub struct TripContext {
     /// The rows trips pushed ahead for later trips' grasps (`pricing.push_ahead`), each its
     /// objects, in the order they were pushed; empty when none waits.
     pub ahead: Vec<Vec<ObjectId>>,
+    /// What the clusterer remembers from earlier trips (the MILP's last proven optimum).
+    pub clusterings: ClusterMemory,
 }
 
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
@@ -124,6 +127,7 @@ impl TripContext {
             failed_together: Vec::new(),
             landed: Vec::new(),
             ahead: Vec::new(),
+            clusterings: ClusterMemory::default(),
         }
     }
 
@@ -270,7 +274,7 @@ impl Policy {
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, String>> {
         let started = Instant::now();
-        let clustered = clusterer.cluster(observed)?;
+        let clustered = clusterer.cluster_remembering(observed, &mut context.clusterings)?;
         *clustering_seconds = Some(started.elapsed().as_secs_f64());
         // The status goes with the clustering into the trip and the record.
         let clustering = Clustering {
