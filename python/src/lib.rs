@@ -8,7 +8,7 @@
 //! (`object`, `field`, `component`, `line`, `column`), a file problem an `OSError`, anything else a
 //! `RuntimeError`.
 
-use pushmog::exec::{Executor, Sim, SimSettings};
+use pushmog::exec::{ExecutorKind, SimSettings};
 use pushmog::grasp::Grasp;
 use pushmog::json::{self, to_json};
 use pushmog::plan::{Plan, verify};
@@ -298,25 +298,23 @@ impl Planner {
         sim_settings: Option<&str>,
         noiseless: bool,
     ) -> PyResult<String> {
-        let mut executor: Box<dyn Executor + Send> = match executor {
-            "ideal" => Box::new(self.policy.ideal()),
-            "sim" => {
-                let mut settings = match sim_settings {
-                    Some(text) => check(json::from_json::<SimSettings>(text, "sim_settings"))?,
-                    None => SimSettings::default(),
-                };
-                if noiseless {
-                    settings = SimSettings::noiseless_from(&settings);
-                }
-                // The command line's seed for the simulator, so a run here equals `pushmog run`.
-                Box::new(check(Sim::new(settings, Sim::seed_for_run(seed)))?)
+        let kind: ExecutorKind = executor.parse().map_err(|_| {
+            PyValueError::new_err(format!(
+                "unknown executor `{executor}`; available: ideal, sim"
+            ))
+        })?;
+        let mut settings = match sim_settings {
+            // Read for the simulator only, as before: the ideal executor has no settings.
+            Some(text) if kind == ExecutorKind::Sim => {
+                check(json::from_json::<SimSettings>(text, "sim_settings"))?
             }
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown executor `{other}`; available: ideal, sim"
-                )));
-            }
+            _ => SimSettings::default(),
         };
+        if noiseless {
+            settings = SimSettings::noiseless_from(&settings);
+        }
+        // Built as the command line builds it, so a run here equals `pushmog run`.
+        let mut executor = check(kind.build(self.policy.problem(), settings, seed))?;
         let plan = py.detach(|| self.policy.run(&scene.scene, executor.as_mut(), seed));
         Ok(to_json(&check(plan)?))
     }

@@ -6,6 +6,7 @@
 //! Robotiq 2F-85 over the controller's own interfaces (`ur5/`).
 
 mod ideal;
+mod kind;
 #[cfg(feature = "sim")]
 pub mod sim;
 #[cfg(feature = "robot")]
@@ -19,6 +20,7 @@ use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
 pub use ideal::Ideal;
+pub use kind::ExecutorKind;
 #[cfg(feature = "sim")]
 pub use sim::{Closing, FingerDrive, Rollout, Sim, SimSettings};
 

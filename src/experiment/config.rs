@@ -132,18 +132,7 @@ pub struct ExecutorConfig {
     pub settings: SimSettings,
 }
 
-/// The executor kinds.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "snake_case")]
-pub enum ExecutorKind {
-    /// Plans applied exactly.
-    #[default]
-    Ideal,
-    /// The rapier3d simulator.
-    Sim,
-}
+pub use crate::exec::ExecutorKind;
 
 /// Values swept over every run.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

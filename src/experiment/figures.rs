@@ -135,10 +135,7 @@ pub fn opt_per_policy_svg(log: &Log) -> Result<String> {
 }
 
 fn executor(log: &Log) -> &'static str {
-    match log.header.config.executor.kind {
-        super::config::ExecutorKind::Ideal => "ideal",
-        super::config::ExecutorKind::Sim => "sim",
-    }
+    log.header.config.executor.kind.name()
 }
 
 /// One line per policy of `y(group)` against `x(group)`.

@@ -9,13 +9,12 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use super::config::{ExecutorKind, ExperimentConfig, RunSpec};
+use super::config::{ExperimentConfig, RunSpec};
 use super::log::{
     LOG_FORMAT, LOG_KIND, LogHeader, LogLock, LogRow, LogWriter, RowTiming, config_hash,
     git_commit, machine_description, read_log,
 };
 use crate::error::{Error, Result};
-use crate::exec::{Executor, Sim};
 use crate::plan::{Plan, RunStatus};
 use crate::scene::{ObjectSet, generate_scene};
 
@@ -54,15 +53,13 @@ pub fn run_one(
     let settings = config.policy_settings(spec.policy, spec.bin_distance);
     let bin_distance = settings.time_model.bin_distance;
     let policy = config.policies[spec.policy].policy(settings)?;
-    let mut executor: Box<dyn Executor> = match config.executor.kind {
-        ExecutorKind::Ideal => Box::new(policy.ideal()),
-        // The simulator's seed follows the run seed as in `pushmog run --seed` and Python's
-        // `Planner.run`, so any logged run can be replayed there with its `run_seed`.
-        ExecutorKind::Sim => Box::new(Sim::new(
-            config.sim_settings(spec.friction),
-            Sim::seed_for_run(spec.run_seed),
-        )?),
-    };
+    // The simulator's seed follows the run seed as in `pushmog run --seed` and Python's
+    // `Planner.run`, so any logged run can be replayed there with its `run_seed`.
+    let mut executor = config.executor.kind.build(
+        policy.problem(),
+        config.sim_settings(spec.friction),
+        spec.run_seed,
+    )?;
     let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
     let (cleared, stop_reason, remaining) = match &plan.status {
         RunStatus::Cleared => (true, None, 0),

@@ -298,10 +298,7 @@ pub fn results_markdown(log: &Log) -> String {
 }
 
 fn executor_name(log: &Log) -> &'static str {
-    match log.header.config.executor.kind {
-        super::config::ExecutorKind::Ideal => "ideal",
-        super::config::ExecutorKind::Sim => "sim",
-    }
+    log.header.config.executor.kind.name()
 }
 
 /// The wall-clock table in Markdown (planning and clustering times; machine-dependent).

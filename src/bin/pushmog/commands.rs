@@ -5,7 +5,7 @@ use std::path::Path;
 
 use pushmog::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
 use pushmog::error::{Error, Result};
-use pushmog::exec::{Executor, Sim, SimSettings};
+use pushmog::exec::{ExecutorKind, SimSettings};
 use pushmog::experiment::agreement::{
     AgreementSettings, agreement_markdown, agreement_svg, replay_grasps,
 };
@@ -146,23 +146,6 @@ pub(crate) fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
     Policy::new(kind, settings)
 }
 
-fn executor(
-    name: &str,
-    policy: &Policy,
-    sim: Option<(SimSettings, u64)>,
-) -> Result<Box<dyn Executor>> {
-    match (name, sim) {
-        ("ideal", _) => Ok(Box::new(policy.ideal())),
-        ("sim", Some((settings, seed))) => Ok(Box::new(Sim::new(settings, seed)?)),
-        ("sim", None) => Ok(Box::new(Sim::new(SimSettings::default(), 0)?)),
-        (other, _) => Err(Error::field(
-            "run",
-            "--executor",
-            format!("unknown executor `{other}`; available: ideal, sim"),
-        )),
-    }
-}
-
 pub fn grasp_agreement(args: &AgreementArgs) -> Result<()> {
     let policy = policy(&args.policy, args.settings.as_deref())?;
     let settings = AgreementSettings {
@@ -201,8 +184,8 @@ pub fn grasp_agreement(args: &AgreementArgs) -> Result<()> {
 pub fn plan(args: &PlanArgs) -> Result<()> {
     let scene = read_scene(&args.scene)?;
     let policy = policy(&args.policy, args.settings.as_deref())?;
-    let mut executor = executor("ideal", &policy, None)?;
-    let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
+    let mut executor = policy.ideal();
+    let plan = policy.run(&scene, &mut executor, args.seed)?;
     write_output(args.output.as_deref(), &plan.to_json())?;
     eprint!("{}", summary(&plan, scene.len()));
     Ok(())
@@ -215,11 +198,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if args.noiseless {
         sim = SimSettings::noiseless_from(&sim);
     }
-    let mut executor = executor(
-        &args.executor,
-        &policy,
-        Some((sim, Sim::seed_for_run(args.seed))),
-    )?;
+    let kind: ExecutorKind = args.executor.parse()?;
+    let mut executor = kind.build(policy.problem(), sim, args.seed)?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     if let Some(path) = &args.plan {
         json::write_text(path, &plan.to_json())?;
