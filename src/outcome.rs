@@ -2,9 +2,11 @@
 
 use serde::{Deserialize, Serialize};
 
-/// How good an answer is, in the planner's own terms.
+/// How good an answer is, in the planner's own terms. More statuses may come: match with a wildcard
+/// arm, or ask [`Status::is_proven`] and [`Status::has_answer`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Status {
     /// A heuristic answer: valid, with no optimality claim.
     Heuristic,
@@ -26,6 +28,21 @@ pub enum Status {
         /// Why.
         reason: String,
     },
+}
+
+impl Status {
+    /// Whether the answer is proven optimal for the stated model: only [`Status::Optimal`]. An
+    /// answer cut short by a time or node limit, a heuristic one, or the best of a sampled search
+    /// is not.
+    pub fn is_proven(&self) -> bool {
+        matches!(self, Self::Optimal)
+    }
+
+    /// Whether the planner gave a valid answer (every status but [`Status::Infeasible`] and
+    /// [`Status::Failed`]).
+    pub fn has_answer(&self) -> bool {
+        !matches!(self, Self::Infeasible | Self::Failed { .. })
+    }
 }
 
 /// Measurements of one planner call.
@@ -64,4 +81,32 @@ pub struct Outcome<T> {
     pub status: Status,
     /// How it was obtained.
     pub stats: Stats,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Status;
+
+    #[test]
+    fn only_optimal_is_proven_and_only_failures_have_no_answer() {
+        let all = [
+            Status::Heuristic,
+            Status::Optimal,
+            Status::BestFound,
+            Status::Feasible,
+            Status::TimeLimit,
+            Status::NodeLimit,
+            Status::Infeasible,
+            Status::Failed {
+                reason: "why".to_string(),
+            },
+        ];
+        let proven: Vec<bool> = all.iter().map(Status::is_proven).collect();
+        assert_eq!(
+            proven,
+            [false, true, false, false, false, false, false, false]
+        );
+        let answered: Vec<bool> = all.iter().map(Status::has_answer).collect();
+        assert_eq!(answered, [true, true, true, true, true, true, false, false]);
+    }
 }

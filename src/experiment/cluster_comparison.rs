@@ -192,7 +192,7 @@ pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
     );
     let optimal = rows
         .iter()
-        .filter(|r| r.milp_status == Status::Optimal)
+        .filter(|r| r.milp_status.is_proven())
         .count();
     let (a, b, c) = column(&|r| r.milp_trips, &|r| r.milp_seconds, &|r| r.milp_solve);
     let _ = writeln!(
@@ -201,7 +201,7 @@ pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
     );
     let optimal = rows
         .iter()
-        .filter(|r| r.fewest_status == Status::Optimal)
+        .filter(|r| r.fewest_status.is_proven())
         .count();
     let (a, b, c) = column(&|r| r.fewest_trips, &|r| r.fewest_seconds, &|r| {
         r.fewest_solve

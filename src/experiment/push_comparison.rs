@@ -17,7 +17,6 @@ use std::fmt::Write as _;
 use crate::cluster::{Clusterer, Hierarchical};
 use crate::error::Result;
 use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
-use crate::outcome::Status;
 use crate::policy::PolicySettings;
 use crate::problem::Problem;
 use crate::push::{PushPlanner, SkipReason, Socp, TowardCentral, predict};
@@ -128,7 +127,7 @@ pub fn compare_pushing(
                 figure.clusters += 1;
                 figure.seconds += outcome.stats.seconds;
                 let plan = outcome.value;
-                let failed = matches!(outcome.status, Status::Infeasible | Status::Failed { .. })
+                let failed = !outcome.status.has_answer()
                     || plan
                         .skipped
                         .iter()

@@ -256,7 +256,7 @@ impl Plan {
             .iter()
             .filter_map(|t| t.clustering.status.as_ref())
             .collect();
-        (!statuses.is_empty()).then(|| statuses.iter().filter(|&&s| *s != Status::Optimal).count())
+        (!statuses.is_empty()).then(|| statuses.iter().filter(|s| !s.is_proven()).count())
     }
 
     /// Fork pushes made over all trips.

@@ -625,8 +625,7 @@ impl Policy {
         observed: &Scene,
         members: &[ObjectId],
     ) -> Result<PushPlan> {
-        let usable =
-            |status: &Status| !matches!(status, Status::Infeasible | Status::Failed { .. });
+        let usable = Status::has_answer;
         // Planners that do not judge their rows (the paper's) count as held.
         let held = |plan: &PushPlan| plan.row_held != Some(false);
         let whole = pusher.plan(observed, members)?;
