@@ -1,4 +1,4 @@
-//! What one solve of the clustering model returned: shared by the solver (`milp.rs`) and the
+//! What one solve of the clustering model returned: shared by the solver (`milp/`) and the
 //! merging of independent parts (`decompose.rs`), so neither depends on the other's internals.
 
 use crate::outcome::Status;

@@ -190,19 +190,13 @@ pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
         out,
         "| hierarchical (paper), as taken | {a} | {b} | {c} | – |"
     );
-    let optimal = rows
-        .iter()
-        .filter(|r| r.milp_status.is_proven())
-        .count();
+    let optimal = rows.iter().filter(|r| r.milp_status.is_proven()).count();
     let (a, b, c) = column(&|r| r.milp_trips, &|r| r.milp_seconds, &|r| r.milp_solve);
     let _ = writeln!(
         out,
         "| milp, objective time | {a} | {b} | {c} | {optimal}/{n} |"
     );
-    let optimal = rows
-        .iter()
-        .filter(|r| r.fewest_status.is_proven())
-        .count();
+    let optimal = rows.iter().filter(|r| r.fewest_status.is_proven()).count();
     let (a, b, c) = column(&|r| r.fewest_trips, &|r| r.fewest_seconds, &|r| {
         r.fewest_solve
     });

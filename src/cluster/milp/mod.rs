@@ -1,0 +1,460 @@
+//! Optimal clustering as a set-partitioning MILP (`formulations/clustering.md`), solved with good_lp.
+//!
+//! Variables `x_S ∈ {0, 1}` over the candidate clusters `K` ([`super::compact_candidates`] plus the
+//! clusters of the hierarchical heuristic, each split into single objects when its members cannot
+//! stand in one row, so the heuristic's answer so split is always a feasible point):
+//!
+//! ```text
+//! minimise   Σ_S c_S x_S
+//! subject to Σ_{S ∋ o} x_S = 1        for every object o      (a partition)
+//!            x_S + x_T ≤ 1            for every clashing pair  (separable clusters)
+//! ```
+//!
+//! with `c_S` from [`CostModel`]. The default backend is the pure-Rust `microlp`; the `highs` feature
+//! adds HiGHS. The heuristic's clustering is passed as a warm start; when the solver stops without an
+//! answer as good as the heuristic's (time limit, failure) the heuristic's clustering is returned with
+//! the solver's status. After every solve the chosen clusters are checked geometrically; a clash the
+//! model missed would be added as a row and the model solved again. Under the time objective the last
+//! proven optimum is kept in the caller's [`ClusterMemory`] ([`Clusterer::cluster_remembering`]), and
+//! on the next table (the same one minus carried clusters) it is returned without a solve when
+//! provably still optimal (`reuse.rs`, `formulations/clustering.md`).
+
+mod backend;
+mod settings;
+mod solve;
+
+use std::collections::HashSet;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub use settings::{FlushPairs, MilpBackend, MilpSettings, RowTest};
+
+use super::candidates::{Budget, clashing_pairs, compact_candidates_where};
+use super::decompose;
+use super::hierarchical::Hierarchical;
+use super::objective::{ClusterObjective, CostModel, centroid_diameter};
+use super::reuse::{self, ClusterMemory};
+use super::separability::separability_conflicts;
+use super::solved::Solved;
+use super::{Clusterer, Clustering};
+use super::{ROW_GAP, admits_row, split_unrowable};
+use crate::error::Result;
+use crate::outcome::{Outcome, Stats, Status};
+use crate::problem::Problem;
+use crate::push::flush::{PairRow, admits_flush_pair};
+use crate::scene::Scene;
+
+/// Optimal clustering by set partitioning.
+#[derive(Clone, Debug)]
+pub struct Milp {
+    settings: MilpSettings,
+    /// What every stage agrees on: the time model and `min_push` price the candidates.
+    problem: Arc<Problem>,
+    /// Which clusters are candidates.
+    rows: RowTest,
+    /// The heuristic whose clusters join the candidates and warm-start the solver.
+    heuristic: Hierarchical,
+}
+
+impl Default for Milp {
+    fn default() -> Self {
+        Self::new(MilpSettings::default(), Problem::shared_default())
+            .expect("the default settings are valid")
+    }
+}
+
+impl Milp {
+    /// A clusterer with these settings, pricing clusters by the problem's time model and
+    /// `min_push`, proposing clusters that pass the default [`RowTest`], seeded by the default
+    /// hierarchical clustering.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a setting is out of range or the backend is not compiled in.
+    pub fn new(settings: MilpSettings, problem: Arc<Problem>) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self {
+            settings,
+            problem,
+            rows: RowTest::default(),
+            heuristic: Hierarchical::default(),
+        })
+    }
+
+    /// The same clusterer proposing the clusters that pass `rows` (in a policy, the push planner's).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] (`socp.margin`) when the margin is outside 0 to 0.05 m.
+    pub fn with_rows(mut self, rows: RowTest) -> Result<Self> {
+        crate::error::in_range("socp", "margin", rows.margin, (0.0, 0.05), "metres")?;
+        self.rows = rows;
+        Ok(self)
+    }
+
+    /// The same clusterer seeded by `heuristic` (in a policy, the policy's `clustering`).
+    pub fn seeded_by(mut self, heuristic: Hierarchical) -> Self {
+        self.heuristic = heuristic;
+        self
+    }
+
+    /// The effective settings.
+    pub fn settings(&self) -> &MilpSettings {
+        &self.settings
+    }
+
+    /// The problem whose time model and `min_push` price the candidates.
+    pub fn problem(&self) -> &Arc<Problem> {
+        &self.problem
+    }
+
+    /// Which clusters may be candidates.
+    pub fn rows(&self) -> RowTest {
+        self.rows
+    }
+
+    /// The heuristic that seeds the solver.
+    pub fn heuristic(&self) -> &Hierarchical {
+        &self.heuristic
+    }
+}
+
+/// One table's model: the candidate clusters with their costs and clash rows, and the heuristic's
+/// clustering as taken (the warm start and the fallback).
+struct Instance<'a> {
+    candidates: Vec<Vec<usize>>,
+    costs_model: CostModel<'a>,
+    costs: Vec<f64>,
+    clashes: Vec<(usize, usize)>,
+    /// Positions in `candidates` of the heuristic's clusters.
+    warm: Vec<usize>,
+    /// The heuristic's clusters as taken (scene indices), and their cost.
+    heuristic: (Vec<Vec<usize>>, f64),
+}
+
+/// How the model was solved.
+struct Answer {
+    solved: Solved,
+    reused: bool,
+    parts: usize,
+    parts_fell_back: usize,
+    rounds: usize,
+}
+
+impl Milp {
+    /// The heuristic's clusters as a row-pushing planner takes them: a cluster whose members stand
+    /// in no row of at most `limit` (or, with flush pushes, a pair no flush push lines up) splits
+    /// into single objects.
+    fn heuristic_as_taken(
+        &self,
+        scene: &Scene,
+        heuristic: &Clustering,
+        limit: f64,
+    ) -> Result<Vec<Vec<usize>>> {
+        let sorted = heuristic
+            .clusters
+            .iter()
+            .map(|c| {
+                let mut members = scene.indices_of(c)?;
+                members.sort_unstable();
+                Ok(members)
+            })
+            .collect::<Result<_>>()?;
+        Ok(split_unrowable(scene, sorted, limit, ROW_GAP)
+            .into_iter()
+            .flat_map(|members| {
+                if self.flush_ok(scene, limit, &members) {
+                    vec![members]
+                } else {
+                    members.into_iter().map(|i| vec![i]).collect()
+                }
+            })
+            .collect())
+    }
+
+    /// Whether `members` pass the flush-pair test (always, without flush pushes or for other than
+    /// pairs).
+    fn flush_ok(&self, scene: &Scene, limit: f64, members: &[usize]) -> bool {
+        match (self.rows.flush_pairs, members) {
+            (Some(flush), &[a, b]) => admits_flush_pair(
+                scene,
+                (a, b),
+                PairRow {
+                    row_limit: limit,
+                    gap: ROW_GAP,
+                    straddle: flush.straddle,
+                    tight: Some(flush.tight),
+                },
+                (flush.margin, flush.cone),
+            ),
+            _ => true,
+        }
+    }
+
+    /// The model of `scene`: candidates that stand in a row the jaws take (plus the heuristic's
+    /// clusters, so its answer is a feasible point), their costs and clash rows; or, when the
+    /// enumeration exceeds its budget, why not.
+    fn instance<'a>(
+        &'a self,
+        scene: &'a Scene,
+        heuristic: &Clustering,
+        deadline: Instant,
+    ) -> Result<std::result::Result<Instance<'a>, String>> {
+        let settings = &self.settings;
+        // A cluster is worth pushing only if its members can stand in one row the jaws take.
+        let limit = scene.gripper().usable_gap() - self.rows.margin;
+        let heuristic_clusters = self.heuristic_as_taken(scene, heuristic, limit)?;
+        let Some(mut candidates) = compact_candidates_where(
+            scene,
+            settings.max_cluster_size,
+            settings.max_diameter,
+            &|c| admits_row(scene, c, limit, ROW_GAP) && self.flush_ok(scene, limit, c),
+            Budget {
+                max_items: settings.max_candidates,
+                deadline: Some(deadline),
+            },
+        ) else {
+            return Ok(Err(format!(
+                "more than {} candidate clusters, or the time limit, while enumerating candidates",
+                settings.max_candidates
+            )));
+        };
+        let mut known: HashSet<Vec<usize>> = candidates.iter().cloned().collect();
+        let mut warm = Vec::new();
+        for cluster in &heuristic_clusters {
+            if known.insert(cluster.clone()) {
+                candidates.push(cluster.clone());
+            }
+            if let Some(k) = candidates.iter().position(|c| c == cluster) {
+                warm.push(k);
+            }
+        }
+        let largest = candidates
+            .iter()
+            .map(|c| centroid_diameter(scene, c))
+            .fold(0.0, f64::max);
+        let costs_model = CostModel::new(
+            scene,
+            settings.objective,
+            self.problem.time_model(),
+            self.problem.min_push(),
+            largest,
+        );
+        let costs: Vec<f64> = candidates
+            .iter()
+            .map(|c| costs_model.cluster_cost(c))
+            .collect();
+        let Some(clashes) = clashing_pairs(
+            scene,
+            &candidates,
+            Budget {
+                max_items: settings.max_clash_rows,
+                deadline: Some(deadline),
+            },
+        ) else {
+            return Ok(Err(format!(
+                "more than {} clashing pairs of the {} candidates, or the time limit",
+                settings.max_clash_rows,
+                candidates.len()
+            )));
+        };
+        let heuristic_cost = costs_model.clustering_cost(&heuristic_clusters);
+        Ok(Ok(Instance {
+            candidates,
+            costs_model,
+            costs,
+            clashes,
+            warm,
+            heuristic: (heuristic_clusters, heuristic_cost),
+        }))
+    }
+
+    /// The remembered optimum minus the carried clusters when it is provably still optimal
+    /// (`reuse.rs`); otherwise every independent part solved on its own (`decompose.rs`).
+    fn answer(
+        &self,
+        scene: &Scene,
+        instance: &Instance<'_>,
+        memory: &ClusterMemory,
+        deadline: Instant,
+    ) -> Answer {
+        let Instance {
+            candidates,
+            costs,
+            clashes,
+            warm,
+            costs_model,
+            ..
+        } = instance;
+        let reused = match self.settings.objective {
+            ClusterObjective::Time => memory.still_optimal(scene, candidates, costs),
+            ClusterObjective::FewestClusters => None,
+        };
+        if let Some(chosen) = reused {
+            let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
+            let solved = Solved {
+                status: Status::Optimal,
+                chosen,
+                bound: Some(cost),
+                gap: Some(0.0),
+                nodes: Some(0),
+                iterations: Some(0),
+                backend_status: "the previous proven optimum without the carried clusters \
+                                 (still optimal: no candidate new or changed, none clashing \
+                                 with a carried cluster)"
+                    .to_string(),
+            };
+            return Answer {
+                solved,
+                reused: true,
+                parts: 0,
+                parts_fell_back: 0,
+                rounds: 0,
+            };
+        }
+        let (mut parts, mut rounds) = (0, 0);
+        let mut solved_parts = Vec::new();
+        for mut part in decompose::parts(scene.len(), candidates, costs, clashes, warm) {
+            parts += 1;
+            let answer = match part.trivial() {
+                Some(answer) => answer,
+                None => self.solve_part(scene, &mut part, costs_model, deadline, &mut rounds),
+            };
+            solved_parts.push((part, answer));
+        }
+        let (solved, parts_fell_back) = decompose::merge(solved_parts);
+        Answer {
+            solved,
+            reused: false,
+            parts,
+            parts_fell_back,
+            rounds,
+        }
+    }
+}
+
+impl Clusterer for Milp {
+    fn name(&self) -> &'static str {
+        "milp"
+    }
+
+    fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>> {
+        self.cluster_remembering(scene, &mut ClusterMemory::default())
+    }
+
+    fn cluster_remembering(
+        &self,
+        scene: &Scene,
+        memory: &mut ClusterMemory,
+    ) -> Result<Outcome<Clustering>> {
+        let started = Instant::now();
+        let settings = &self.settings;
+        let heuristic = self.heuristic.cluster(scene)?;
+        let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
+        let instance = match self.instance(scene, &heuristic.value, deadline)? {
+            Ok(instance) => instance,
+            Err(what) => return Ok(gave_up(&what, heuristic.value, started)),
+        };
+        let clash_rows = instance.clashes.len();
+        let Answer {
+            solved,
+            reused,
+            parts,
+            parts_fell_back,
+            rounds,
+        } = self.answer(scene, &instance, memory, deadline);
+        let Instance {
+            candidates,
+            costs_model,
+            costs,
+            heuristic: (heuristic_clusters, heuristic_cost),
+            ..
+        } = instance;
+
+        let picked: Vec<Vec<usize>> = solved
+            .chosen
+            .iter()
+            .map(|&k| candidates[k].clone())
+            .collect();
+        let is_partition = {
+            let mut all: Vec<usize> = picked.iter().flatten().copied().collect();
+            all.sort_unstable();
+            all == (0..scene.len()).collect::<Vec<_>>()
+        };
+        let usable = is_partition && separability_conflicts(scene, &picked).is_empty();
+        let solver_cost = costs_model.clustering_cost(&picked);
+        let whole_fallback = !(usable && solver_cost <= heuristic_cost + 1e-9);
+        let (clusters, objective, fell_back) = if whole_fallback {
+            (heuristic_clusters, heuristic_cost, true)
+        } else {
+            (picked, solver_cost, parts_fell_back > 0)
+        };
+        // The heuristic's clustering carries no claim: an optimum the solver proved but that could
+        // not be used (not a partition, or clusters not separable) does not make it optimal.
+        let status = if whole_fallback && solved.status == Status::Optimal {
+            Status::Heuristic
+        } else {
+            solved.status.clone()
+        };
+        let proven = settings.objective == ClusterObjective::Time
+            && solved.status == Status::Optimal
+            && !fell_back;
+        memory
+            .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
+        let clustering = Clustering::from_indices(scene, &clusters).normalised();
+        let mut counters = vec![
+            ("candidates".to_string(), candidates.len() as f64),
+            ("clash_rows".to_string(), clash_rows as f64),
+            ("variables".to_string(), candidates.len() as f64),
+            ("constraints".to_string(), (scene.len() + clash_rows) as f64),
+            ("solves".to_string(), rounds as f64),
+            ("reused".to_string(), if reused { 1.0 } else { 0.0 }),
+            ("parts".to_string(), parts as f64),
+            ("parts_fell_back".to_string(), parts_fell_back as f64),
+            ("heuristic_objective".to_string(), heuristic_cost),
+            ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
+            ("clusters".to_string(), clustering.len() as f64),
+        ];
+        if let Some(nodes) = solved.nodes {
+            counters.push(("nodes".to_string(), nodes as f64));
+        }
+        if let Some(iterations) = solved.iterations {
+            counters.push(("lp_iterations".to_string(), iterations as f64));
+        }
+        Ok(Outcome {
+            value: clustering,
+            status,
+            stats: Stats {
+                seconds: started.elapsed().as_secs_f64(),
+                objective: Some(objective),
+                bound: solved.bound,
+                gap: solved.gap,
+                backend_status: Some(solved.backend_status),
+                counters,
+            },
+        })
+    }
+}
+
+/// The heuristic's clustering, with no optimality claim, when the model could not be built within
+/// its budget (`what` says which).
+fn gave_up(what: &str, heuristic: Clustering, started: Instant) -> Outcome<Clustering> {
+    let clusters = heuristic.len() as f64;
+    Outcome {
+        value: heuristic,
+        status: Status::Heuristic,
+        stats: Stats {
+            seconds: started.elapsed().as_secs_f64(),
+            objective: None,
+            bound: None,
+            gap: None,
+            backend_status: Some(format!(
+                "{what}: the model was not built; the heuristic's clustering, with no \
+                 optimality claim"
+            )),
+            counters: vec![
+                ("budget_exceeded".to_string(), 1.0),
+                ("fell_back".to_string(), 1.0),
+                ("clusters".to_string(), clusters),
+            ],
+        },
+    }
+}
