@@ -1,7 +1,41 @@
-//! The shape of the code: dependencies between the crate's top-level modules point one way.
+//! The shape of the code: dependencies between the crate's top-level modules point one way, and so do
+//! the dependencies between the submodules of each of them.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
+
+type Graph = BTreeMap<String, BTreeSet<String>>;
+
+/// The lower-case names that follow `prefix` in `text`: `prefix` then a name, or `prefix{a, b::c}`
+/// (each item's first segment).
+fn names_after(text: &str, prefix: &str, found: &mut BTreeSet<String>) {
+    let name = |s: &str| -> String {
+        s.chars()
+            .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '_')
+            .collect()
+    };
+    for (k, _) in text.match_indices(prefix) {
+        // Not the tail of a longer path (`super::super::x` is not `super::x`).
+        if text[..k].ends_with("::") {
+            continue;
+        }
+        let rest = &text[k + prefix.len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let group = &group[..group.find('}').unwrap_or(group.len())];
+            for item in group.split(',') {
+                let first = name(item.trim());
+                if !first.is_empty() {
+                    found.insert(first);
+                }
+            }
+        } else {
+            let first = name(rest);
+            if !first.is_empty() {
+                found.insert(first);
+            }
+        }
+    }
+}
 
 /// Every `crate::<module>` named in the files under `path`.
 fn uses(path: &Path, found: &mut BTreeSet<String>) {
@@ -10,26 +44,55 @@ fn uses(path: &Path, found: &mut BTreeSet<String>) {
             uses(&entry.unwrap().path(), found);
         }
     } else if path.extension().is_some_and(|e| e == "rs") {
-        let text = std::fs::read_to_string(path).unwrap();
-        for (k, _) in text.match_indices("crate::") {
-            let name: String = text[k + 7..]
-                .chars()
-                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
-                .collect();
-            if !name.is_empty() {
-                found.insert(name);
-            }
-        }
+        names_after(&std::fs::read_to_string(path).unwrap(), "crate::", found);
     }
+}
+
+/// Panics naming a cycle of `graph` (edges to names outside it are ignored), if there is one.
+fn assert_acyclic(graph: &Graph, what: &str) {
+    fn visit(
+        node: &str,
+        graph: &Graph,
+        state: &mut BTreeMap<String, u8>,
+        path: &mut Vec<String>,
+        what: &str,
+    ) {
+        match state.get(node) {
+            Some(2) => return,
+            Some(1) => panic!(
+                "a dependency cycle in {what}: {} -> {node}",
+                path.join(" -> ")
+            ),
+            _ => {}
+        }
+        state.insert(node.to_string(), 1);
+        path.push(node.to_string());
+        for next in graph[node].iter().filter(|n| graph.contains_key(*n)) {
+            visit(next, graph, state, path, what);
+        }
+        path.pop();
+        state.insert(node.to_string(), 2);
+    }
+    let mut state = BTreeMap::new();
+    for node in graph.keys() {
+        visit(node, graph, &mut state, &mut Vec::new(), what);
+    }
+}
+
+fn src() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem().unwrap().to_string_lossy().to_string()
 }
 
 #[test]
 fn the_module_graph_has_no_cycles() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for entry in std::fs::read_dir(&src).unwrap() {
+    let mut graph = Graph::new();
+    for entry in std::fs::read_dir(src()).unwrap() {
         let path = entry.unwrap().path();
-        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        let name = stem(&path);
         if name == "lib" || name == "bin" {
             continue;
         }
@@ -38,33 +101,65 @@ fn the_module_graph_has_no_cycles() {
         found.remove(&name);
         graph.insert(name, found);
     }
-    let modules: BTreeSet<String> = graph.keys().cloned().collect();
-    for deps in graph.values_mut() {
-        deps.retain(|d| modules.contains(d));
-    }
-    // Depth-first search for a back edge.
-    fn visit(
-        node: &str,
-        graph: &BTreeMap<String, BTreeSet<String>>,
-        state: &mut BTreeMap<String, u8>,
-        path: &mut Vec<String>,
-    ) {
-        match state.get(node) {
-            Some(2) => return,
-            Some(1) => panic!("a dependency cycle: {} -> {node}", path.join(" -> ")),
-            _ => {}
-        }
-        state.insert(node.to_string(), 1);
-        path.push(node.to_string());
-        for next in &graph[node] {
-            visit(next, graph, state, path);
-        }
-        path.pop();
-        state.insert(node.to_string(), 2);
-    }
-    let mut state = BTreeMap::new();
-    for node in graph.keys() {
-        visit(node, &graph, &mut state, &mut Vec::new());
-    }
     assert!(graph.len() > 10, "{graph:?}");
+    assert_acyclic(&graph, "the crate");
+}
+
+/// The siblings a file of the module `top` names: `crate::top::x`, and `super::x` from a file of
+/// `top` itself, `super::super::x` from a file one folder further down (or `super::x` from its
+/// `mod.rs`), and so on.
+fn sibling_uses(path: &Path, top: &str, depth: usize, found: &mut BTreeSet<String>) {
+    if path.is_dir() {
+        for entry in std::fs::read_dir(path).unwrap() {
+            sibling_uses(&entry.unwrap().path(), top, depth + 1, found);
+        }
+    } else if path.extension().is_some_and(|e| e == "rs") {
+        let text = std::fs::read_to_string(path).unwrap();
+        let levels = if stem(path) == "mod" {
+            depth - 1
+        } else {
+            depth
+        };
+        names_after(&text, &"super::".repeat(levels), found);
+        names_after(&text, &format!("crate::{top}::"), found);
+    }
+}
+
+/// Within every top-level module, its submodules (files and folders beside its `mod.rs`, which
+/// re-exports them and is left out) depend on each other one way too.
+#[test]
+fn no_module_has_a_cycle_among_its_submodules() {
+    let mut checked = 0;
+    for entry in std::fs::read_dir(src()).unwrap() {
+        let dir = entry.unwrap().path();
+        let top = stem(&dir);
+        if !dir.is_dir() || top == "bin" {
+            continue;
+        }
+        let mut graph = Graph::new();
+        for child in std::fs::read_dir(&dir).unwrap() {
+            let path = child.unwrap().path();
+            let name = stem(&path);
+            if name == "mod" {
+                continue;
+            }
+            let mut found = BTreeSet::new();
+            sibling_uses(&path, &top, 1, &mut found);
+            found.remove(&name);
+            graph.insert(name, found);
+        }
+        checked += graph.len();
+        assert_acyclic(&graph, &format!("src/{top}/"));
+    }
+    assert!(checked > 50, "{checked} submodules");
+}
+
+/// The test finds a cycle where there is one.
+#[test]
+#[should_panic(expected = "a dependency cycle in example: a -> b -> a")]
+fn a_cycle_is_found() {
+    let mut graph = Graph::new();
+    graph.insert("a".into(), ["b".to_string()].into());
+    graph.insert("b".into(), ["a".to_string(), "outside".to_string()].into());
+    assert_acyclic(&graph, "example");
 }

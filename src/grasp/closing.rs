@@ -22,8 +22,9 @@
 
 use nalgebra::{Isometry2, Point2, Vector2};
 
-use super::model::{Body, GraspModel};
+use super::body::Body;
 use crate::geometry::{ConvexPolygon, contact_points, cross};
+use crate::problem::GraspModel;
 use crate::scene::Gripper;
 
 use super::equilibrium::{Touch, balanced};

@@ -20,6 +20,7 @@
 //! The mechanics, the noise and the measured agreement with the simulator are in
 //! `formulations/grasping.md`.
 
+mod body;
 mod closing;
 mod equilibrium;
 mod jaws;

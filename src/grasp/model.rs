@@ -31,6 +31,7 @@
 
 use nalgebra::{Point2, Vector2};
 
+pub use super::body::Body;
 use super::jaws::JawPose;
 use crate::geometry::{ConvexPolygon, cast_distance, contact_patch, distance, overlap};
 pub use crate::problem::{GraspModel, Mechanics};
@@ -117,15 +118,6 @@ pub(super) struct Side {
     pub inward: Vector2<f64>,
     /// Which coefficient applies.
     pub friction: Friction,
-}
-
-/// An object as the grasp model sees it: its outline on the table and its mass.
-#[derive(Clone, Copy, Debug)]
-pub struct Body<'a> {
-    /// Outline in the table frame.
-    pub outline: &'a ConvexPolygon,
-    /// Mass, kilograms.
-    pub mass: f64,
 }
 
 impl Squeeze {
