@@ -1,0 +1,15 @@
+//! What each subcommand does, in terms of library calls: one file per group of commands.
+
+mod compare;
+mod experiment;
+mod files;
+mod io;
+mod run;
+mod scene;
+
+pub use compare::{compare_clustering, compare_pushing, grasp_agreement};
+pub use experiment::{experiment, merge, report};
+pub use files::{render, schema, verify};
+pub(crate) use io::{policy, summary};
+pub use run::{cluster, plan, run};
+pub use scene::{check, demo, generate, library};
