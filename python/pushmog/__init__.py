@@ -17,6 +17,7 @@ import json
 from typing import Union
 
 from . import _native
+from ._errors import FileError, FormatError, PlanError, PushmogError, SceneError, SettingsError
 from ._plan import Grasp, JawPose, Plan, Push, TripPlan
 from ._planner import POLICIES, NoTrip, Planner, TripContext
 from ._scene import Object, Pose, Scene, builtin_object_set, generate_scene
@@ -25,15 +26,21 @@ __version__ = _native.version()
 
 __all__ = [
     "POLICIES",
+    "FileError",
+    "FormatError",
     "Grasp",
     "JawPose",
     "NoTrip",
     "Object",
     "Plan",
+    "PlanError",
     "Planner",
     "Pose",
     "Push",
+    "PushmogError",
     "Scene",
+    "SceneError",
+    "SettingsError",
     "TripContext",
     "TripPlan",
     "builtin_object_set",

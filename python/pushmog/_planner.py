@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from typing import Any, Mapping, Optional, Union
 
+from ._errors import PushmogError
 from . import _native
 from ._plan import Plan, TripPlan
 from ._scene import Scene, _plain
@@ -15,7 +16,7 @@ __all__ = ["POLICIES", "Planner", "TripContext", "NoTrip"]
 POLICIES = tuple(_native.policies())
 
 
-class NoTrip(Exception):
+class NoTrip(PushmogError):
     """Raised by :meth:`Planner.plan_trip` with ``strict=True`` when no trip can be planned; the
     reason is the message."""
 

@@ -16,6 +16,7 @@ from typing import Any, Iterable, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
+from ._errors import FileError, SceneError
 
 __all__ = ["Pose", "Object", "Scene", "generate_scene", "builtin_object_set"]
 
@@ -39,7 +40,7 @@ class Pose:
             return Pose(float(value["x"]), float(value["y"]), float(value.get("yaw", 0.0)))
         values = [float(v) for v in np.asarray(value, dtype=float).ravel()]
         if len(values) not in (2, 3):
-            raise ValueError(f"a pose is (x, y) or (x, y, yaw), got {len(values)} numbers")
+            raise SceneError(f"a pose is (x, y) or (x, y, yaw), got {len(values)} numbers")
         return Pose(*values)
 
     def to_dict(self) -> dict:
@@ -101,7 +102,10 @@ def _read(source: PathOrText) -> tuple:
         return source.decode("utf-8"), "<bytes>"
     if isinstance(source, os.PathLike) or not str(source).lstrip().startswith("{"):
         path = Path(source)
-        return path.read_text(encoding="utf-8"), str(path)
+        try:
+            return path.read_text(encoding="utf-8"), str(path)
+        except OSError as error:
+            raise FileError(error.errno, error.strerror, str(path)) from error
     return str(source), "<text>"
 
 
@@ -118,8 +122,9 @@ class Scene:
     # -- making scenes -------------------------------------------------------------------------
     @staticmethod
     def from_json(source: PathOrText) -> "Scene":
-        """Reads a scene from JSON text or a file path. Raises ``ValueError`` naming the object and
-        field when the scene is invalid, ``OSError`` when the file cannot be read."""
+        """Reads a scene from JSON text or a file path. Raises :class:`SceneError` (a ``ValueError``)
+        naming the object and field when the scene is invalid, :class:`FileError` (an ``OSError``)
+        when the file cannot be read."""
         text, name = _read(source)
         return Scene(_native.Scene.from_json(text, name))
 
@@ -148,10 +153,10 @@ class Scene:
                 raise TypeError(f"object {index}: expected an Object or a mapping, got {type(item).__name__}")
             for key in ("vertices", "pose", "height"):
                 if key not in item:
-                    raise ValueError(f"object {index}: missing field `{key}`")
+                    raise SceneError(f"object {index}: missing field `{key}`")
             vertices = np.asarray(item["vertices"], dtype=float)
             if vertices.ndim != 2 or vertices.shape[1] != 2:
-                raise ValueError(
+                raise SceneError(
                     f"object {item.get('id', index)}: field `vertices` must be a (k, 2) array, got shape {vertices.shape}"
                 )
             spec = Object(

@@ -28,8 +28,9 @@ enum Attribute {
     Text(String),
 }
 
-/// A Python exception for a pushmog error, with the culprit's names as attributes.
-fn to_py_err(error: pushmog::Error) -> PyErr {
+/// A Python exception for a pushmog error (a class of `pushmog._errors`), with the culprit's names
+/// as attributes.
+fn to_py_err(error: pushmog::Error, context: ErrorContext) -> PyErr {
     use Attribute::{Float, Int, Text};
     use pushmog::Error as E;
     let id = |id: &pushmog::scene::ObjectId| Int(i64::from(id.0));
@@ -74,17 +75,8 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
         _ => Vec::new(),
     };
     let message = error.to_string();
-    let err = match error {
-        E::Io { .. } | E::Busy { .. } => PyOSError::new_err(message),
-        E::InvalidObject { .. }
-        | E::DuplicateId { .. }
-        | E::Overlap { .. }
-        | E::InvalidField { .. }
-        | E::Json { .. }
-        | E::Placement { .. } => PyValueError::new_err(message),
-        _ => PyRuntimeError::new_err(message),
-    };
     Python::attach(|py| {
+        let err = raise(py, class_of(&error, context), message);
         let value = err.value(py);
         for (name, attribute) in attributes {
             let set = match attribute {
@@ -95,12 +87,72 @@ fn to_py_err(error: pushmog::Error) -> PyErr {
             // An attribute that cannot be set leaves the message, which names the culprit too.
             drop(set);
         }
-    });
-    err
+        err
+    })
+}
+
+/// What a call was doing when it failed, for the exception class of input errors.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ErrorContext {
+    /// Reading or generating a scene: every input error is a `SceneError`.
+    Scene,
+    /// Reading settings: every input error is a `SettingsError`.
+    Settings,
+    /// Anything else.
+    Other,
+}
+
+/// The name of the exception class in `pushmog._errors` that `error` raises.
+fn class_of(error: &pushmog::Error, context: ErrorContext) -> &'static str {
+    use pushmog::Error as E;
+    match error {
+        E::Io { .. } | E::Busy { .. } => "FileError",
+        E::InvalidObject { .. }
+        | E::DuplicateId { .. }
+        | E::Overlap { .. }
+        | E::Placement { .. } => "SceneError",
+        E::InvalidField { .. } | E::Json { .. } if context == ErrorContext::Scene => "SceneError",
+        E::Json { .. } if context == ErrorContext::Settings => "SettingsError",
+        E::InvalidField { .. } => "SettingsError",
+        E::Json { .. } => "FormatError",
+        _ => "PlanError",
+    }
+}
+
+/// A `SettingsError`: an unknown name or a value out of range given to a call.
+fn settings_error(message: String) -> PyErr {
+    Python::attach(|py| raise(py, "SettingsError", message))
+}
+
+/// The exception `class` (of `pushmog._errors`) with `message`; the built-in exception it derives
+/// from if that module cannot be loaded (the native module used on its own).
+fn raise(py: Python<'_>, class: &str, message: String) -> PyErr {
+    let made = py
+        .import("pushmog._errors")
+        .and_then(|module| module.getattr(class))
+        .and_then(|class| class.call1((message.clone(),)));
+    match made {
+        Ok(value) => PyErr::from_value(value),
+        Err(_) => match class {
+            "FileError" => PyOSError::new_err(message),
+            "PlanError" => PyRuntimeError::new_err(message),
+            _ => PyValueError::new_err(message),
+        },
+    }
 }
 
 fn check<T>(result: pushmog::Result<T>) -> PyResult<T> {
-    result.map_err(to_py_err)
+    result.map_err(|e| to_py_err(e, ErrorContext::Other))
+}
+
+/// As [`check`], for settings documents: every input error is a `SettingsError`.
+fn check_settings<T>(result: pushmog::Result<T>) -> PyResult<T> {
+    result.map_err(|e| to_py_err(e, ErrorContext::Settings))
+}
+
+/// As [`check`], for calls that read or generate a scene: every input error is a `SceneError`.
+fn check_scene<T>(result: pushmog::Result<T>) -> PyResult<T> {
+    result.map_err(|e| to_py_err(e, ErrorContext::Scene))
 }
 
 /// A validated scene (objects, gripper, workspace), parsed once and shared by every call.
@@ -117,7 +169,7 @@ impl Scene {
     fn from_json(py: Python<'_>, text: &str, source: &str) -> PyResult<Self> {
         let scene = py.detach(|| json::scene_from_json(text, source));
         Ok(Self {
-            scene: check(scene)?,
+            scene: check_scene(scene)?,
         })
     }
 
@@ -212,7 +264,7 @@ impl Planner {
     fn new(policy: &str, settings: Option<&str>) -> PyResult<Self> {
         let kind: PolicyKind = check(policy.parse())?;
         let settings = match settings {
-            Some(text) => check(json::from_json::<PolicySettings>(text, "settings"))?,
+            Some(text) => check_settings(json::from_json::<PolicySettings>(text, "settings"))?,
             None => PolicySettings::default(),
         };
         Ok(Self {
@@ -299,14 +351,14 @@ impl Planner {
         noiseless: bool,
     ) -> PyResult<String> {
         let kind: ExecutorKind = executor.parse().map_err(|_| {
-            PyValueError::new_err(format!(
+            settings_error(format!(
                 "unknown executor `{executor}`; available: ideal, sim"
             ))
         })?;
         let mut settings = match sim_settings {
             // Read for the simulator only, as before: the ideal executor has no settings.
             Some(text) if kind == ExecutorKind::Sim => {
-                check(json::from_json::<SimSettings>(text, "sim_settings"))?
+                check_settings(json::from_json::<SimSettings>(text, "sim_settings"))?
             }
             _ => SimSettings::default(),
         };
@@ -343,7 +395,7 @@ fn generate(
     };
     let scene = py.detach(|| generate_scene(&settings, &set, seed));
     Ok(Scene {
-        scene: check(scene)?,
+        scene: check_scene(scene)?,
     })
 }
 
@@ -380,7 +432,7 @@ fn plan_to_svg(py: Python<'_>, plan: &str, title: &str, pixels_per_metre: f64) -
 
 fn options(pixels_per_metre: f64) -> PyResult<RenderOptions> {
     if !(pixels_per_metre.is_finite() && pixels_per_metre > 0.0) {
-        return Err(PyValueError::new_err(format!(
+        return Err(settings_error(format!(
             "pixels_per_metre must be a positive number, got {pixels_per_metre}"
         )));
     }
@@ -396,7 +448,7 @@ fn schema(name: &str) -> PyResult<String> {
     pushmog::schema::named(name)
         .map(|value| to_json(&value))
         .ok_or_else(|| {
-            PyValueError::new_err(format!(
+            settings_error(format!(
                 "unknown schema `{name}`; available: {}",
                 pushmog::schema::names().join(", ")
             ))
@@ -415,7 +467,7 @@ fn defaults(name: &str) -> PyResult<String> {
     match name {
         "policy" => Ok(to_json(&PolicySettings::default())),
         "sim" => Ok(to_json(&SimSettings::default())),
-        _ => Err(PyValueError::new_err(format!(
+        _ => Err(settings_error(format!(
             "unknown settings `{name}`; available: policy, sim"
         ))),
     }

@@ -138,3 +138,28 @@ def test_object_set_from_dict():
     scene = pushmog.generate_scene(5, seed=2, object_set=library)
     assert scene.to_json() == pushmog.generate_scene(5, seed=2).to_json()
     assert json.loads(json.dumps(library)) == library
+
+
+def test_errors_are_pushmog_classes_and_the_builtin_ones():
+    assert issubclass(pushmog.SceneError, pushmog.PushmogError)
+    assert issubclass(pushmog.SceneError, ValueError)
+    assert issubclass(pushmog.FileError, OSError)
+    assert issubclass(pushmog.PlanError, RuntimeError)
+    # A bad scene, from the native validation or from the Python side, is a SceneError.
+    with pytest.raises(pushmog.SceneError) as raised:
+        pushmog.Scene.from_objects([{"vertices": SQUARE, "pose": (0.1, 0.1, 0.0), "height": -1.0, "id": 4}])
+    assert raised.value.field == "height"
+    with pytest.raises(pushmog.SceneError):
+        pushmog.Scene.from_objects([{"vertices": SQUARE, "pose": (0.1, 0.1)}])
+    with pytest.raises(pushmog.SceneError):
+        pushmog.Scene.from_json('{"objects": [{"id": "x"}]}')
+    with pytest.raises(pushmog.SceneError):
+        pushmog.generate_scene(5000, seed=1, width=0.1, depth=0.1)
+    with pytest.raises(pushmog.FileError):
+        pushmog.Scene.from_json("/nonexistent/scene.json")
+    # Settings are not scenes.
+    with pytest.raises(pushmog.SettingsError) as raised:
+        pushmog.Planner("push-mog", settings={"run": {"max_failed_attempts": -1}})
+    assert not isinstance(raised.value, pushmog.SceneError)
+    with pytest.raises(pushmog.SettingsError):
+        pushmog.Planner("fastest")
