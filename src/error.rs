@@ -54,6 +54,26 @@ pub enum Error {
         /// What is wrong with it.
         reason: String,
     },
+    /// A setting asks for a part this build left out: a Cargo feature it was not compiled with.
+    #[error("{component}: field `{field}`: {reason}")]
+    NotCompiled {
+        /// The component whose setting asks for it.
+        component: String,
+        /// The setting.
+        field: String,
+        /// The Cargo feature that would provide it.
+        feature: &'static str,
+        /// What is missing and how to build it in.
+        reason: String,
+    },
+    /// A call out of order: an executor asked to act before it was given a table (`reset`).
+    #[error("{component}: {reason}")]
+    Misuse {
+        /// What was misused.
+        component: String,
+        /// Which call was missing or out of order.
+        reason: String,
+    },
     /// A JSON document could not be read into the expected type.
     #[error("{source_name}: invalid JSON at line {line}, column {column}{}: {message}",
         if path.is_empty() || path == "." { String::new() } else { format!(" (at `{path}`)") })]
@@ -223,6 +243,14 @@ fn bounded<T: PartialOrd + std::fmt::Display>(
 }
 
 impl Error {
+    /// An [`Error::Misuse`]: `reason` says which call was missing or out of order.
+    pub fn misuse(component: impl Into<String>, reason: impl Into<String>) -> Self {
+        Self::Misuse {
+            component: component.into(),
+            reason: reason.into(),
+        }
+    }
+
     /// An [`Error::InvalidField`] for a component other than an object.
     pub fn field(
         component: impl Into<String>,

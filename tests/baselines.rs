@@ -346,3 +346,39 @@ fn plan_several_finds_the_pairs_the_full_search_finds() {
     );
     println!("{several} grasps of two or more, {pairs_first} ranked first by the full search");
 }
+
+/// An executor asked to act before it was given a table says so as misuse, and a setting that asks
+/// for a part this build left out names the feature.
+#[test]
+fn misuse_and_missing_features_are_their_own_errors() {
+    use pushmog::Error;
+    use pushmog::exec::{Executor, Ideal};
+    use pushmog::grasp::{Grasp, GraspModel, JawPose};
+    let grasp = Grasp {
+        jaws: JawPose {
+            center: Point2::new(0.1, 0.1),
+            angle: 0.0,
+            opening: 0.08,
+        },
+        objects: vec![ObjectId(0)],
+        width: 0.03,
+        margin: 0.01,
+    };
+    let mut ideal = Ideal::new(GraspModel::default());
+    assert!(matches!(ideal.grasp(&grasp), Err(Error::Misuse { .. })));
+    if !cfg!(feature = "highs") {
+        let mut settings = PolicySettings::default();
+        settings.milp.backend = pushmog::cluster::MilpBackend::Highs;
+        let refused = Policy::new(PolicyKind::PushMogOpt, settings).unwrap_err();
+        assert!(
+            matches!(
+                &refused,
+                Error::NotCompiled {
+                    feature: "highs",
+                    ..
+                }
+            ),
+            "{refused}"
+        );
+    }
+}

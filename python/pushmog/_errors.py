@@ -2,7 +2,8 @@
 before these classes existed (``ValueError`` for bad input, ``OSError`` for files, ``RuntimeError``
 for the rest), so ``except ValueError`` still catches a bad scene and ``except pushmog.SceneError``
 catches it alone. Errors from the planner carry the culprit as attributes where there is one:
-``object``, ``other``, ``index``, ``field``, ``component``, ``depth``, ``line``, ``column``, ``trip``."""
+``object``, ``other``, ``index``, ``field``, ``component``, ``depth``, ``line``, ``column``, ``trip``,
+``feature``."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ class SceneError(PushmogError, ValueError):
 
 
 class SettingsError(PushmogError, ValueError):
-    """A setting out of range or unknown, or an unknown policy or executor name."""
+    """A setting out of range or unknown, an unknown policy or executor name, or a setting that asks
+    for a part this build left out (its ``feature`` attribute names the Cargo feature)."""
 
 
 class FormatError(PushmogError, ValueError):
@@ -29,4 +31,5 @@ class FileError(PushmogError, OSError):
 
 
 class PlanError(PushmogError, RuntimeError):
-    """A planning or execution failure: a plan the verifier refuses, a fault of an executor."""
+    """A planning or execution failure: a plan the verifier refuses, a fault of an executor, a call
+    out of order."""

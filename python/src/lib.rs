@@ -72,6 +72,16 @@ fn to_py_err(error: pushmog::Error, context: ErrorContext) -> PyErr {
             ("column", Int(*column as i64)),
         ],
         E::Refused { trip, .. } => vec![("trip", Int(*trip as i64))],
+        E::NotCompiled {
+            component,
+            field,
+            feature,
+            ..
+        } => vec![
+            ("component", Text(component.clone())),
+            ("field", Text(field.clone())),
+            ("feature", Text((*feature).to_string())),
+        ],
         _ => Vec::new(),
     };
     let message = error.to_string();
@@ -113,7 +123,7 @@ fn class_of(error: &pushmog::Error, context: ErrorContext) -> &'static str {
         | E::Placement { .. } => "SceneError",
         E::InvalidField { .. } | E::Json { .. } if context == ErrorContext::Scene => "SceneError",
         E::Json { .. } if context == ErrorContext::Settings => "SettingsError",
-        E::InvalidField { .. } => "SettingsError",
+        E::InvalidField { .. } | E::NotCompiled { .. } => "SettingsError",
         E::Json { .. } => "FormatError",
         _ => "PlanError",
     }

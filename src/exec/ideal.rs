@@ -22,9 +22,9 @@ impl Ideal {
     }
 
     fn table(&self) -> Result<&Scene> {
-        self.scene
-            .as_ref()
-            .ok_or_else(|| crate::Error::field("ideal executor", "scene", "reset() was not called"))
+        self.scene.as_ref().ok_or_else(|| {
+            crate::Error::misuse("ideal executor", "act before reset(): no table was given")
+        })
     }
 }
 

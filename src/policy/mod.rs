@@ -503,11 +503,12 @@ fn multi_object(settings: &PolicySettings, problem: &Arc<Problem>) -> Result<Mul
         )
     }
     #[cfg(not(feature = "sim"))]
-    Err(Error::field(
-        "policy",
-        "rollout",
-        "rollouts need the simulator: build with the `sim` feature",
-    ))
+    Err(Error::NotCompiled {
+        component: "policy".to_string(),
+        field: "rollout".to_string(),
+        feature: "sim",
+        reason: "rollouts need the simulator: build with the `sim` feature".to_string(),
+    })
 }
 
 mod ahead;

@@ -138,11 +138,14 @@ impl MilpSettings {
             )?;
         }
         if self.backend == MilpBackend::Highs && !cfg!(feature = "highs") {
-            return Err(Error::field(
-                "milp",
-                "backend",
-                "HiGHS is not compiled in: build with `--features highs` (needs cmake and libclang)",
-            ));
+            return Err(Error::NotCompiled {
+                component: "milp".to_string(),
+                field: "backend".to_string(),
+                feature: "highs",
+                reason: "HiGHS is not compiled in: build with `--features highs` (needs cmake and \
+                         libclang)"
+                    .to_string(),
+            });
         }
         Ok(())
     }

@@ -172,10 +172,9 @@ impl Sim {
     /// When [`Executor::reset`] was not called.
     pub fn close_and_release(&mut self, grasp: &Grasp) -> Result<Closing> {
         if self.workspace.is_none() {
-            return Err(Error::field(
+            return Err(Error::misuse(
                 "sim executor",
-                "scene",
-                "reset() was not called",
+                "act before reset(): no table was given",
             ));
         }
         let mut stage = match self.lower_and_close(grasp) {
@@ -341,10 +340,9 @@ impl Executor for Sim {
     }
 
     fn observe(&mut self) -> Result<Scene> {
-        let workspace = self
-            .workspace
-            .clone()
-            .ok_or_else(|| Error::field("sim executor", "scene", "reset() was not called"))?;
+        let workspace = self.workspace.clone().ok_or_else(|| {
+            Error::misuse("sim executor", "act before reset(): no table was given")
+        })?;
         let s = &self.settings;
         let mut objects: Vec<Object> = Vec::new();
         let mut truth: Vec<Object> = Vec::new();

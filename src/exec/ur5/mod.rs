@@ -332,7 +332,7 @@ impl<L: RobotLink> Ur5<L> {
     fn scene(&self) -> Result<&Scene> {
         self.scene
             .as_ref()
-            .ok_or_else(|| Error::field("ur5 executor", "scene", "reset() was not called"))
+            .ok_or_else(|| Error::misuse("ur5 executor", "act before reset(): no table was given"))
     }
 }
 
