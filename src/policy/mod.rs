@@ -434,8 +434,9 @@ impl PolicyBuilder {
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn build(self) -> Result<Policy> {
         let settings = self.settings;
-        settings.validate()?;
+        // Checked once: the shared problem, then each stage's own settings.
         let problem = settings.problem()?;
+        settings.validate_stages()?;
         // The clustering's pair test follows flush pushes only when the SOCP makes the pushes.
         let pusher_kind = self.parts.1.unwrap_or(self.kind.pusher());
         let rows = if self.pusher.is_some() || pusher_kind != PusherKind::Socp {
