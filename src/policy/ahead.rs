@@ -24,7 +24,7 @@
 //! When the cluster chosen in step 1 cannot be grasped as it lies, the trip is planned as without
 //! pushing ahead.
 
-use super::trip::TripContext;
+use super::context::TripContext;
 use super::{Policy, PolicyPusher, TripPlan};
 use super::{grasp_path, push_paths};
 use crate::cluster::Clustering;

@@ -513,14 +513,18 @@ fn multi_object(settings: &PolicySettings, problem: &Arc<Problem>) -> Result<Mul
 }
 
 mod ahead;
+mod context;
+mod correct;
 mod price;
 mod run;
+mod separate;
 mod trip;
 
 pub use ahead::AHEAD_TRIES;
+pub use context::{GIVE_UP_AFTER, Landing, TripContext};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
 pub use run::{Run, RunTiming, run_seconds};
-pub use trip::{GIVE_UP_AFTER, Landing, TripContext, TripPlan};
+pub use trip::TripPlan;
 
 impl Policy {
     /// The preset `kind` with these settings.

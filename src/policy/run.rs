@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use super::trip::{Landing, TripContext};
+use super::context::{Landing, TripContext};
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;

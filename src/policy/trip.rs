@@ -18,15 +18,16 @@ use std::time::Instant;
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
+use super::context::{Landing, TripContext};
 use super::{Policy, PolicyClusterer, PolicyPusher};
-use crate::cluster::{ClusterMemory, Clustering};
+use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspPlanner, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::plan::AheadRow;
 use crate::push::fork::finger_footprints;
-use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict, separating_push};
+use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
 
@@ -63,101 +64,6 @@ pub struct TripPlan {
 /// Pushes to make, in order, the grasp planned on the table predicted after them, and the grasp
 /// planner's estimate of its probability.
 type PushesThenGrasp = (Vec<Push>, Grasp, f64);
-
-/// Lengths tried, shortest first, for a push that separates an object from the neighbour it is stuck
-/// against, metres: a 10 mm plate and the single-object planner's clearance on either side need
-/// about 20 mm; longer ones for neighbours that are not square to the push.
-const SEPARATIONS: [f64; 3] = [0.02, 0.03, 0.045];
-
-/// Directions tried for a separating push: this many around the full turn, of which those that do not
-/// run into the neighbour are used.
-const SEPARATION_DIRECTIONS: usize = 16;
-
-/// Least room left between a separated object and the workspace's edge, metres (the SOCP's default
-/// edge margin).
-const SEPARATION_EDGE_MARGIN: f64 = 0.005;
-
-/// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
-/// the jaw poses where grasps carried nothing (not tried again in practically the same place), the
-/// sets of objects whose multi-object grasps carried nothing (after [`GIVE_UP_AFTER`] such grasps,
-/// those objects are taken one at a time), and the pushes whose fingers came down on an object (if
-/// the camera cannot see it, the pushed object is not pushed again with the fingers lowered near
-/// there), and what the clusterer remembers (the MILP's last optimum). A policy keeps no state
-/// between calls: a trip's plan depends on the table and this context only.
-#[derive(Clone, Debug)]
-pub struct TripContext {
-    pub(super) rng: SeededRng,
-    /// Jaw poses of grasps that carried nothing.
-    pub failed: Vec<JawPose>,
-    /// The objects (sorted) of each multi-object grasp that carried nothing.
-    pub failed_together: Vec<Vec<ObjectId>>,
-    /// Pushes during whose descent a finger came down on an object.
-    pub landed: Vec<Landing>,
-    /// The rows trips pushed ahead for later trips' grasps (`pricing.push_ahead`), each its
-    /// objects, in the order they were pushed; empty when none waits.
-    pub ahead: Vec<Vec<ObjectId>>,
-    /// What the clusterer remembers from earlier trips (the MILP's last proven optimum).
-    pub clusterings: ClusterMemory,
-}
-
-/// Multi-object grasps of one set of objects that may carry nothing before those objects are no
-/// longer grasped together in the run. A failed grasp is not tried again in the same place, but a
-/// grasp model that misjudges a set (an object toppled onto a side face, say, seen from above as an
-/// upright prism of its outline) may hold it in every other place too: on a held-out scene the
-/// pair 12/31 (a triangular prism lying on its side and a pentagon) was grasped together eleven
-/// times, each carrying nothing, until the run stopped. One failure can be bad luck (objects move,
-/// and the next look sees them anew), so the set is given up after the second.
-pub const GIVE_UP_AFTER: usize = 2;
-
-/// A push during whose descent a finger came down on an object.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Landing {
-    /// The push.
-    pub push: Push,
-    /// The object the finger came down on.
-    pub on: ObjectId,
-}
-
-impl TripContext {
-    /// A fresh context; `seed` drives the random choices.
-    pub fn new(seed: u64) -> Self {
-        Self {
-            rng: SeededRng::new(seed),
-            failed: Vec::new(),
-            failed_together: Vec::new(),
-            landed: Vec::new(),
-            ahead: Vec::new(),
-            clusterings: ClusterMemory::default(),
-        }
-    }
-
-    /// Notes a grasp that carried nothing: its jaws, and its objects when there were several.
-    pub fn record_failure(&mut self, grasp: &Grasp) {
-        self.failed.push(grasp.jaws);
-        if grasp.objects.len() >= 2 {
-            let mut objects = grasp.objects.clone();
-            objects.sort_unstable();
-            self.failed_together.push(objects);
-        }
-    }
-
-    /// Whether `grasp` takes two or more objects that are still to be grasped together.
-    pub(super) fn together(&self, grasp: &Grasp) -> bool {
-        grasp.objects.len() >= 2 && !self.given_up(&grasp.objects)
-    }
-
-    /// Whether these objects are no longer to be grasped together: [`GIVE_UP_AFTER`] grasps of
-    /// exactly them carried nothing.
-    pub fn given_up(&self, objects: &[ObjectId]) -> bool {
-        let mut objects = objects.to_vec();
-        objects.sort_unstable();
-        self.failed_together
-            .iter()
-            .filter(|set| **set == objects)
-            .count()
-            >= GIVE_UP_AFTER
-    }
-}
 
 impl Policy {
     /// Plans the next trip on `scene` as it is, with a fresh [`TripContext`] of seed 0: the pushes
@@ -351,70 +257,6 @@ impl Policy {
         )))
     }
 
-    /// A push that moves one of `members` away from the object nearest it ([`separating_push`], the
-    /// shortest of [`SEPARATIONS`] that works, in the first of the directions that do not point into
-    /// that object, nearest straight away first), and a grasp of that object
-    /// or its neighbour by itself on the table predicted after the push; `None` when no member can
-    /// be freed so. The way out when objects stand too close for a plate between them and the grasp
-    /// model refuses them together (a dead end the paper's pushes, which end with objects touching,
-    /// can leave).
-    fn separate(
-        &self,
-        observed: &Scene,
-        members: &[ObjectId],
-        avoid: &[JawPose],
-    ) -> Result<Option<(Push, Grasp)>> {
-        for &id in members {
-            let Some(index) = observed.index_of(id) else {
-                continue;
-            };
-            let outline = observed.world_polygon(index);
-            let Some(neighbour) = (0..observed.len())
-                .filter(|&j| j != index)
-                .min_by(|&a, &b| {
-                    distance(outline, observed.world_polygon(a))
-                        .total_cmp(&distance(outline, observed.world_polygon(b)))
-                })
-            else {
-                continue;
-            };
-            let freed = [id, observed.objects()[neighbour].id];
-            let away = (observed.centroid(index) - observed.centroid(neighbour)).normalize();
-            // Directions that do not run into the neighbour, nearest straight away first.
-            let mut directions: Vec<(f64, Vector2<f64>)> = (0..SEPARATION_DIRECTIONS)
-                .map(|k| {
-                    let turn = std::f64::consts::TAU * k as f64 / SEPARATION_DIRECTIONS as f64;
-                    let (sin, cos) = turn.sin_cos();
-                    let direction =
-                        Vector2::new(away.x * cos - away.y * sin, away.x * sin + away.y * cos);
-                    (-cos, direction)
-                })
-                .filter(|(_, direction)| direction.dot(&away) >= -1e-9)
-                .collect();
-            directions.sort_by(|a, b| a.0.total_cmp(&b.0));
-            for travel in SEPARATIONS {
-                for (_, direction) in &directions {
-                    let Ok(push) = separating_push(
-                        observed,
-                        self.problem.fork(),
-                        (index, neighbour),
-                        direction,
-                        travel,
-                        SEPARATION_EDGE_MARGIN,
-                    ) else {
-                        continue;
-                    };
-                    let predicted = predict(observed, std::slice::from_ref(&push))?;
-                    if let Some(grasp) = self.single.plan_avoiding(&predicted, &freed, avoid)?.value
-                    {
-                        return Ok(Some((push, grasp)));
-                    }
-                }
-            }
-        }
-        Ok(None)
-    }
-
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,
     /// when that grasp takes two or more objects and every pushed object it leaves could still be
     /// taken by itself there (no object is stranded), and no push lowers its fingers near an unseen
@@ -490,95 +332,6 @@ impl Policy {
             reason: reason.clone(),
         }));
         Ok((None, skipped))
-    }
-
-    /// What to do next in a trip whose pushes have been made, planned on `observed`, a new look at
-    /// the table. Pushes shift and turn objects away from their planned targets (in the simulator a
-    /// median 2.4 mm and 4.5°, a 90th percentile 6.1 mm and 19°: `formulations/grasping.md`), so
-    /// jaws planned on the prediction can come down on a pushed object or catch a broken row; here
-    /// they are planned on where the objects are. In order:
-    /// - the trip's cluster (its objects still seen) grasped together as it lies, when the
-    ///   multi-object planner finds a grasp of as many objects as the cluster has (the planned jaws
-    ///   offered as a candidate; a grasp may also catch an object outside the cluster);
-    /// - with `may_push`, corrective pushes of the cluster planned afresh, when a multi-object grasp
-    ///   follows them (as in the trip's first plan) that takes more objects than the best grasp of
-    ///   the cluster as it lies;
-    /// - that grasp as it lies, when it takes two or more;
-    /// - one of the cluster's objects by itself; else any object by itself.
-    ///
-    /// The returned plan's clustering and cluster are the trip's. `None` when no object on the table
-    /// can be grasped. Jaws where a grasp failed before are never proposed.
-    ///
-    /// # Errors
-    /// Misuse only.
-    pub fn correct_trip(
-        &self,
-        observed: &Scene,
-        trip: &TripPlan,
-        context: &TripContext,
-        may_push: bool,
-    ) -> Result<Option<TripPlan>> {
-        let avoid = &context.failed;
-        let planned: &[ObjectId] = match trip.cluster {
-            Some(k) if k < trip.clustering.clusters.len() => &trip.clustering.clusters[k],
-            _ => &trip.grasp.objects,
-        };
-        let members: Vec<ObjectId> = planned
-            .iter()
-            .copied()
-            .filter(|&id| observed.index_of(id).is_some())
-            .collect();
-        let next =
-            |pushes: Vec<Push>, skipped_pushes: Vec<SkippedPush>, grasp: Grasp, judged| TripPlan {
-                clustering: trip.clustering.clone(),
-                cluster: trip.cluster,
-                pushes,
-                skipped_pushes,
-                grasp,
-                judged,
-                ahead: Vec::new(),
-                ahead_rows: Vec::new(),
-            };
-        let mut skipped = Vec::new();
-        if members.len() >= 2 {
-            let outcome =
-                self.multi
-                    .plan_several(observed, &members, &[trip.grasp.jaws], &[], avoid)?;
-            let as_it_lies = outcome.value.filter(|g| context.together(g));
-            let taken = as_it_lies.as_ref().map_or(0, |g| g.objects.len());
-            if taken == members.len() {
-                return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp, None)));
-            }
-            // Fewer objects than the cluster has can be taken as it lies (a row of three or more
-            // broken by the pushes): corrective pushes come first when their grasp takes more.
-            if let Some(pusher) = self.pusher.as_deref().filter(|_| may_push) {
-                let (pushed, why_not) = self.push_draft(
-                    pusher,
-                    observed,
-                    &members,
-                    context,
-                    (taken.max(1), true, None),
-                )?;
-                skipped = why_not;
-                if let Some((pushes, grasp, judged)) =
-                    pushed.filter(|(_, g, _)| g.objects.len() > taken)
-                {
-                    return Ok(Some(next(pushes, skipped, grasp, Some(judged))));
-                }
-            }
-            if let Some(grasp) = as_it_lies {
-                return Ok(Some(next(Vec::new(), skipped, grasp, None)));
-            }
-        }
-        if let Some(grasp) = self.single.plan_avoiding(observed, &members, avoid)?.value {
-            return Ok(Some(next(Vec::new(), skipped, grasp, None)));
-        }
-        let everything: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
-        Ok(self
-            .single
-            .plan_avoiding(observed, &everything, avoid)?
-            .value
-            .map(|grasp| next(Vec::new(), skipped, grasp, None)))
     }
 
     /// Under the expected-time objective, the expected seconds saved by `pushes` and then `grasp`
