@@ -4,9 +4,10 @@
 //! classes. Every call that plans, runs or checks releases the GIL while Rust works, so a thread pool
 //! plans scenes in parallel.
 //!
-//! Errors become Python exceptions: invalid input is a `ValueError` whose attributes name the culprit
-//! (`object`, `field`, `component`, `line`, `column`), a file problem an `OSError`, anything else a
-//! `RuntimeError`.
+//! Errors become the Python exceptions of `pushmog._errors`, whose attributes name the culprit
+//! (`object`, `field`, `component`, `line`, `column`, `feature`): a bad scene a `SceneError`, a bad
+//! setting a `SettingsError`, a document that does not parse a `FormatError` (all `ValueError`s), a
+//! file problem a `FileError` (an `OSError`), anything else a `PlanError` (a `RuntimeError`).
 
 use pushmog::exec::{ExecutorKind, SimSettings};
 use pushmog::grasp::Grasp;
