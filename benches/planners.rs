@@ -4,9 +4,10 @@
 //! `experiments/picks-per-hour.toml`; the aim of issue 36 is a median of 50 ms per trip)
 //! (`Policy::plan_trip`, the call the
 //! Python package's `Planner.plan_trip` makes; `python/benches/plan_trip.py` times that one on the
-//! same scene), and a whole push-mog run with the ideal executor. Policies remember closings they
-//! have judged and the MILP its last optimum, so every iteration gets a fresh policy (built outside
-//! the timing): the figures are of cold planning, not of answers recalled.
+//! same scene), and a whole push-mog run with the ideal executor. Policies cache the closings they
+//! have judged (the MILP's last optimum travels in a run's `TripContext`, which `plan_trip` starts
+//! afresh), so every iteration gets a fresh policy (built outside the timing): the figures are of
+//! cold planning, not of answers recalled.
 //!
 //! Before the benchmarks it prints the median and 95th percentile of push-mog-time's planning per
 //! trip over whole runs (seeds 1-5, plans applied exactly; wall-clock per call, so a shared machine
