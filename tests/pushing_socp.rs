@@ -7,12 +7,11 @@ use pushmog::geometry::distance;
 use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
 use pushmog::outcome::Outcome;
 use pushmog::plan::Status;
-use pushmog::problem::{DEFAULT_MIN_PUSH, ForkSettings, Problem};
+use pushmog::problem::Problem;
 use pushmog::push::{
     PushPlan, PushPlanner, SkipReason, Socp, SocpSettings, TowardCentral, predict,
 };
 use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
-use pushmog::time_model::TimeModel;
 
 fn squares(side: f64, at: &[(f64, f64)]) -> Scene {
     boxes(side, side, at)
@@ -101,13 +100,9 @@ fn an_outside_object_is_kept_clear() {
 /// members caught in one row, judged with unlimited friction) for most feasible clusters.
 #[test]
 fn socp_rows_fit_the_jaws_on_seeded_scenes() {
-    let unlimited = Problem::new(
-        GraspModel::unlimited_friction(),
-        ForkSettings::default(),
-        DEFAULT_MIN_PUSH,
-        TimeModel::default(),
-    )
-    .unwrap();
+    let unlimited = Problem::default()
+        .with_grasp_model(GraspModel::unlimited_friction())
+        .unwrap();
     let geometric = MultiObject::new(
         MultiObjectSettings {
             samples: 1,

@@ -18,7 +18,6 @@ use crate::cluster::{Clusterer, Hierarchical};
 use crate::error::Result;
 use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
 use crate::policy::PolicySettings;
-use crate::problem::Problem;
 use crate::push::{PushPlanner, SkipReason, Socp, TowardCentral, predict};
 use crate::scene::{GeneratorSettings, ObjectId, ObjectSet, Scene, generate_scene};
 use crate::stats::mean_std;
@@ -93,12 +92,7 @@ pub fn compare_pushing(
     let central = TowardCentral::new(settings.pushing.clone(), problem.clone())?;
     let socp = Socp::new(settings.socp.clone(), problem.clone())?;
     // Whether a row fits the jaws at all: the same problem with friction that never lets go.
-    let fits_problem = Problem::new(
-        GraspModel::unlimited_friction(),
-        problem.fork().clone(),
-        problem.min_push(),
-        problem.time_model().clone(),
-    )?;
+    let fits_problem = problem.with_grasp_model(GraspModel::unlimited_friction())?;
     let fits = MultiObject::new(
         MultiObjectSettings {
             samples: 1,

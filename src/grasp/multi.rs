@@ -180,7 +180,6 @@ impl MultiObject {
     /// # Errors
     /// [`Error::InvalidField`] when a setting is out of range.
     pub fn new(settings: MultiObjectSettings, problem: Arc<Problem>) -> Result<Self> {
-        settings.validate()?;
         let outcome = Arc::new(ModelOutcome::new(
             problem.grasp_model().clone(),
             settings.samples,

@@ -63,6 +63,19 @@ impl Problem {
         }))
     }
 
+    /// The same problem judged by another grasp model (say the "fits the jaws" test,
+    /// [`GraspModel::unlimited_friction`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when a field of `grasp_model` is out of range.
+    pub fn with_grasp_model(&self, grasp_model: GraspModel) -> Result<Arc<Self>> {
+        grasp_model.validate()?;
+        Ok(Arc::new(Self {
+            grasp_model,
+            ..self.clone()
+        }))
+    }
+
     /// The defaults of every part, shared: what a stage built on its own plans for.
     pub fn shared_default() -> Arc<Self> {
         static DEFAULT: LazyLock<Arc<Problem>> = LazyLock::new(|| Arc::new(Problem::default()));
