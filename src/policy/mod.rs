@@ -34,19 +34,13 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cluster::{
-    Clusterer, FlushPairs, Hierarchical, HierarchicalSettings, Milp, MilpSettings, RowTest,
-};
+use crate::cluster::{Clusterer, Hierarchical, RowTest};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
-use crate::grasp::{
-    Grasp, GraspModel, MultiObject, MultiObjectSettings, SingleObject, SingleObjectSettings,
-};
+use crate::grasp::{Grasp, MultiObject, SingleObject};
 use crate::plan::Plan;
 use crate::problem::Problem;
-use crate::push::{
-    ForkSettings, PushPlanner, Socp, SocpSettings, TowardCentral, TowardCentralSettings,
-};
+use crate::push::{PushPlanner, Socp, TowardCentral};
 use crate::scene::{ObjectId, Scene};
 use crate::time_model::TimeModel;
 
@@ -135,179 +129,6 @@ impl FromStr for PolicyKind {
                     ),
                 )
             })
-    }
-}
-
-/// Settings of every stage of a policy and of the loop. What every stage must agree on (the grasp
-/// model, the fork-push geometry, the shortest push, the time model) is set once here and built
-/// into one [`Problem`] ([`PolicySettings::problem`]) that the policy hands to each stage; the MILP
-/// is seeded by `clustering` and proposes the rows the push planner can make
-/// ([`PolicySettings::row_test`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(default, deny_unknown_fields)]
-pub struct PolicySettings {
-    /// Hierarchical clustering (`mog`, `push-mog`, `push-mog-socp`).
-    pub clustering: HierarchicalSettings,
-    /// Optimal clustering (`push-mog-milp`, `push-mog-opt`).
-    pub milp: MilpSettings,
-    /// Pushes toward the central object (`push-mog`, `push-mog-milp`).
-    pub pushing: TowardCentralSettings,
-    /// SOCP push targets (`push-mog-socp`, `push-mog-opt`).
-    pub socp: SocpSettings,
-    /// Single-object grasps (`sog`, and the fallback of the others).
-    pub single: SingleObjectSettings,
-    /// Multi-object grasps (`mog`, `push-mog`).
-    pub multi: MultiObjectSettings,
-    /// Limits of the loop.
-    pub run: LoopSettings,
-    /// What a closing does, for every stage that asks: the multi- and single-object planners, the
-    /// SOCP's judgement of rows, and the ideal executor.
-    pub grasp_model: GraspModel,
-    /// Fork-push geometry, for both push planners.
-    pub fork: ForkSettings,
-    /// Pushes shorter than this are not made, metres, by the push planners and in the MILP's
-    /// estimates. Default 0.003.
-    pub min_push: f64,
-    /// Judge multi-object candidates by rolling each sample out in the rapier simulator (default
-    /// settings) instead of with the grasp model: slower by two orders of magnitude, for comparison.
-    /// Default false.
-    pub rollout: bool,
-    /// Seconds per trip and per push: the time each run reports, and the time the MILP clustering
-    /// minimises.
-    pub time_model: TimeModel,
-    /// Whether pushes are made whenever a multi-object grasp follows them (objects per trip, the
-    /// default) or only when they are expected to save robot time ([`Pricing`]).
-    pub pricing: Pricing,
-}
-
-impl Default for PolicySettings {
-    fn default() -> Self {
-        Self {
-            clustering: HierarchicalSettings::default(),
-            milp: MilpSettings::default(),
-            pushing: TowardCentralSettings::default(),
-            socp: SocpSettings::default(),
-            single: SingleObjectSettings::default(),
-            multi: MultiObjectSettings::default(),
-            run: LoopSettings::default(),
-            grasp_model: GraspModel::default(),
-            fork: ForkSettings::default(),
-            min_push: 0.003,
-            rollout: false,
-            time_model: TimeModel::default(),
-            pricing: Pricing::default(),
-        }
-    }
-}
-
-/// Limits that keep the closed loop finite.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(default, deny_unknown_fields)]
-pub struct LoopSettings {
-    /// Attempts in a row that find no grasp or carry nothing before the run stops. Default 10.
-    pub max_failed_attempts: usize,
-    /// Trips allowed per object on the table at the start (at least one trip). Default 3.
-    pub max_trips_per_object: f64,
-    /// Look at the table again after a trip's pushes and plan its grasp on what is seen
-    /// ([`Policy::replan_grasp`]), at the cost of one more observation; `false` grasps the table
-    /// predicted after the pushes, as the Push-MOG paper does to save that observation. Default true.
-    pub observe_after_pushes: bool,
-    /// Rounds of corrective pushes a trip may make after its first pushes, each planned on a new
-    /// observation (needs `observe_after_pushes`). Default 2.
-    pub max_corrections: usize,
-}
-
-impl Default for LoopSettings {
-    fn default() -> Self {
-        Self {
-            max_failed_attempts: 10,
-            max_trips_per_object: 3.0,
-            observe_after_pushes: true,
-            max_corrections: 2,
-        }
-    }
-}
-
-impl PolicySettings {
-    /// Checks every stage's settings.
-    ///
-    /// # Errors
-    /// [`Error::InvalidField`] naming the field.
-    pub fn validate(&self) -> Result<()> {
-        self.problem()?;
-        self.validate_stages()
-    }
-
-    /// The problem every stage of the policy shares, built and checked once: the grasp model, the
-    /// fork, `min_push` and the time model.
-    ///
-    /// # Errors
-    /// [`Error::InvalidField`] naming the field.
-    pub fn problem(&self) -> Result<Arc<Problem>> {
-        Problem::new(
-            self.grasp_model.clone(),
-            self.fork.clone(),
-            self.min_push,
-            self.time_model.clone(),
-        )
-    }
-
-    /// The MILP's candidate test that follows this policy's push planner: rows leave the SOCP's
-    /// margin, and with flush pushes only pairs a flush push lines up.
-    pub fn row_test(&self) -> RowTest {
-        RowTest {
-            margin: self.socp.margin,
-            flush_pairs: self.socp.flush.then_some(FlushPairs {
-                straddle: self.socp.straddle,
-                margin: self.socp.flush_margin,
-                cone: self.socp.flush_cone,
-                tight: self.socp.flush_gap,
-            }),
-        }
-    }
-
-    /// The MILP clusterer of these settings: `milp` with the shared `problem`, proposing the
-    /// clusters that pass `rows` (in a policy whose pushes are the SOCP's, [`Self::row_test`]),
-    /// seeded by the `clustering` heuristic.
-    ///
-    /// # Errors
-    /// [`Error::InvalidField`] naming the field.
-    pub fn milp_clusterer(&self, problem: Arc<Problem>, rows: RowTest) -> Result<Milp> {
-        Ok(Milp::new(self.milp.clone(), problem)?
-            .with_rows(rows)?
-            .seeded_by(Hierarchical::new(self.clustering.clone())?))
-    }
-
-    fn validate_stages(&self) -> Result<()> {
-        self.clustering.validate()?;
-        self.milp.validate()?;
-        self.pushing.validate()?;
-        self.socp.validate()?;
-        self.single.validate()?;
-        self.multi.validate()?;
-        self.pricing.validate()?;
-        crate::error::count_in_range(
-            "run",
-            "max_failed_attempts",
-            self.run.max_failed_attempts,
-            (1, 1000),
-            "each attempt is a planning call",
-        )?;
-        crate::error::count_in_range(
-            "run",
-            "max_corrections",
-            self.run.max_corrections,
-            (0, 10),
-            "each round is an observation and more pushes within one trip",
-        )?;
-        crate::error::in_range(
-            "run",
-            "max_trips_per_object",
-            self.run.max_trips_per_object,
-            (0.01, 100.0),
-            "trips per object; every object needs at most one trip when grasps hold",
-        )?;
-        Ok(())
     }
 }
 
@@ -518,12 +339,14 @@ mod correct;
 mod price;
 mod run;
 mod separate;
+mod settings;
 mod trip;
 
 pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
 pub use run::{Run, RunTiming, run_seconds};
+pub use settings::{LoopSettings, PolicySettings};
 pub use trip::TripPlan;
 
 impl Policy {
