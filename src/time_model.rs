@@ -6,7 +6,11 @@
 //!   `a`, `d/v + v/a` when `d ≥ v²/a`, else `2√(d/a)`, plus `arm_settle`;
 //! - a **push stroke** of length `L`: `L / v_push` (slow, quasi-static; its ramps are negligible), plus
 //!   `arm_settle`;
-//! - a **jaw command** changing the opening by `Δ`: `|Δ| / v_jaw`, plus `gripper_settle`.
+//! - a **jaw command** changing the opening by `Δ`: `|Δ| / v_jaw`, plus `gripper_settle`;
+//! - a **blended move** (`blend_free_moves`, default on): an arm move through free air that flows
+//!   into the next arm move without stopping, as a UR controller does given a blend radius: its
+//!   motion, no settle. A push's rise (unless the loop looks after it), the travel to a push and a
+//!   grasp's lift are such moves; the UR5 executor sends them blended.
 //!
 //! A trip starts and ends at the bin with the jaws fully open. Each fork push follows the Push-MOG
 //! paper's five steps: jaws to the push's opening, travel above the approach point, descend
@@ -23,8 +27,9 @@
 //! grasp-and-trip and a median of 1.7 s of planning per attempt. The execution hardly varies (standard
 //! deviation 0.03 s) although the grasps lie up to 0.6 m apart, so that cell's time is in fixed
 //! per-command costs, not in travel. One figure fixes one parameter: the settle time, taken equal for
-//! arm and jaw commands, is set so the model's single-object trip (the arm's usual linear moves, the
-//! 2F-85's fastest jaws, an object of the library's median width) takes the logs' median. The
+//! arm and jaw commands, is set so the model's single-object trip (every move stopping as the real
+//! cell's did: seven stops, six when blending; the arm's usual linear moves, the 2F-85's fastest
+//! jaws, an object of the library's median width) takes the logs' median. The
 //! observation time is the logs' median planning time; those logs do not time perception, which is
 //! a cell parameter of its own (`perception`, 0 unless set). `experiments/README.md` sets the model's figures
 //! beside the logs' (12.2 s per trip, 212 picks per hour for single-object picking).
@@ -75,6 +80,13 @@ pub struct TimeModel {
     /// charged with `observation`. Default 0: no public log of the real cell times its perception,
     /// which ran apart from the timed planner. Set it for the camera of your cell.
     pub perception: f64,
+    /// Whether an arm move through free air that flows into another (a push's rise into the travel
+    /// to the next push or to the grasp, the travel to a push into its descent, a grasp's lift into
+    /// the run to the bin) blends through its waypoint instead of stopping there, as a UR controller
+    /// does for a `movel` given a blend radius. Such a move is charged its motion and no settle.
+    /// Default true. `false` stops after every move, as the real cell whose trips fixed the settle
+    /// time did (the fit is made that way whatever this says).
+    pub blend_free_moves: bool,
 }
 
 /// The fitted settle time per command, seconds (`fit_settle` on the real cell's logs; the test
@@ -97,6 +109,7 @@ impl Default for TimeModel {
             gripper_settle: FITTED_SETTLE,
             observation: FITTED_OBSERVATION,
             perception: 0.0,
+            blend_free_moves: true,
         }
     }
 }
@@ -104,8 +117,11 @@ impl Default for TimeModel {
 /// One command of an action, as the time model charges it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Command {
-    /// An arm move of this length, metres.
+    /// An arm move of this length, metres, that stops at its end.
     Arm(f64),
+    /// An arm move of this length, metres, that blends into the next arm move without stopping:
+    /// charged its motion (as if it stopped: the corner cut by the blend is not credited), no settle.
+    Through(f64),
     /// A push stroke of this length, metres.
     Push(f64),
     /// A jaw command changing the opening by this much, metres.
@@ -133,6 +149,9 @@ pub struct PushPath {
     pub end: Point2<f64>,
     /// Opening between plate centres during the push, metres (the fork opening for a fork push).
     pub opening: f64,
+    /// Whether the arm stops after this push's rise for a look at the table (the loop looks after
+    /// pushing), so the rise does not blend into the next move.
+    pub look_after: bool,
 }
 
 /// A grasp as the time model sees it.
@@ -226,6 +245,7 @@ impl TimeModel {
             .iter()
             .map(|command| match *command {
                 Command::Arm(d) => self.move_seconds(d) + self.arm_settle,
+                Command::Through(d) => self.move_seconds(d),
                 Command::Push(d) => d.max(0.0) / self.push_speed + self.arm_settle,
                 Command::Jaws(d) => d.abs() / self.jaw_speed + self.gripper_settle,
             })
@@ -241,7 +261,9 @@ impl TimeModel {
     /// The commands of one trip, in order, as [`TimeModel::trip_seconds`] charges them: per push a
     /// jaw command to its opening (left out when the jaws stand there already), travel, descend,
     /// push, rise; then travel to the grasp, jaws to the grasp's opening, descend, close, lift, to the
-    /// bin, open fully.
+    /// bin, open fully. With [`TimeModel::blend_free_moves`] the travel to a push, a push's rise
+    /// (unless a look follows it) and the lift are [`Command::Through`]: each flows into the next
+    /// arm move, which is always one through free air.
     pub fn trip_commands(
         &self,
         gripper: &Gripper,
@@ -254,24 +276,31 @@ impl TimeModel {
         let travel = |to: Point2<f64>, at: &mut Option<Point2<f64>>| {
             let distance = at.map_or(self.bin_distance, |from| nalgebra::distance(&from, &to));
             *at = Some(to);
-            Command::Arm(distance)
+            distance
+        };
+        let flowing = |distance: f64, blends: bool| {
+            if blends && self.blend_free_moves {
+                Command::Through(distance)
+            } else {
+                Command::Arm(distance)
+            }
         };
         for push in pushes {
             if push.opening != jaws {
                 commands.push(Command::Jaws(jaws - push.opening));
                 jaws = push.opening;
             }
-            commands.push(travel(push.approach, &mut at));
+            commands.push(flowing(travel(push.approach, &mut at), true));
             commands.push(Command::Arm(self.approach_height));
             commands.push(Command::Push(nalgebra::distance(&push.approach, &push.end)));
-            commands.push(Command::Arm(self.approach_height));
+            commands.push(flowing(self.approach_height, !push.look_after));
             at = Some(push.end);
         }
-        commands.push(travel(grasp.center, &mut at));
+        commands.push(Command::Arm(travel(grasp.center, &mut at)));
         commands.push(Command::Jaws(grasp.opening - jaws));
         commands.push(Command::Arm(self.approach_height));
         commands.push(Command::Jaws(grasp.opening - grasp.closed));
-        commands.push(Command::Arm(self.approach_height));
+        commands.push(flowing(self.approach_height, true));
         commands.push(Command::Arm(self.bin_distance));
         commands.push(Command::Jaws(gripper.stroke - grasp.closed));
         commands
@@ -304,24 +333,34 @@ impl TimeModel {
     }
 
     /// Seconds a fork push of `distance` metres adds to a trip after another fork push, the jaws
-    /// already at the fork opening: travel, descend, push, rise.
+    /// already at the fork opening: travel, descend, push, rise (the travel and the rise flowing on
+    /// without a stop when [`TimeModel::blend_free_moves`]).
     pub fn nominal_later_push_seconds(&self, distance: f64) -> f64 {
         let distance = distance.max(0.0);
+        let flowing = |d: f64| {
+            if self.blend_free_moves {
+                Command::Through(d)
+            } else {
+                Command::Arm(d)
+            }
+        };
         self.seconds(&[
-            Command::Arm(distance),
+            flowing(distance),
             Command::Arm(self.approach_height),
             Command::Push(distance),
-            Command::Arm(self.approach_height),
+            flowing(self.approach_height),
         ])
     }
 
     /// The settle time per command that makes the nominal single-object trip last `trip_seconds`
-    /// with the other parameters as they are (equal for arm and jaw commands); `None` when the
+    /// with the other parameters as they are (equal for arm and jaw commands), every move stopping
+    /// as the real cell's did (whatever [`TimeModel::blend_free_moves`] says); `None` when the
     /// motions alone already take longer.
     pub fn fit_settle(&self, trip_seconds: f64) -> Option<f64> {
         let bare = Self {
             arm_settle: 0.0,
             gripper_settle: 0.0,
+            blend_free_moves: false,
             ..self.clone()
         };
         let motion = bare.nominal_trip_seconds(&Gripper::default());
@@ -354,19 +393,71 @@ mod tests {
     }
 
     #[test]
-    fn the_nominal_trip_has_seven_commands() {
-        let model = TimeModel::default();
+    fn the_nominal_trip_has_seven_commands_and_six_stops() {
         let gripper = Gripper::default();
-        let with = model.nominal_trip_seconds(&gripper);
-        let without = TimeModel {
+        let settle_free = |model: &TimeModel| TimeModel {
             arm_settle: 0.0,
             gripper_settle: 0.0,
             ..model.clone()
-        }
-        .nominal_trip_seconds(&gripper);
+        };
+        // As the real cell moved: every command stops.
+        let stopping = TimeModel {
+            blend_free_moves: false,
+            ..TimeModel::default()
+        };
+        let with = stopping.nominal_trip_seconds(&gripper);
+        let without = settle_free(&stopping).nominal_trip_seconds(&gripper);
         assert!((with - without - 7.0 * FITTED_SETTLE).abs() < 1e-12);
-        let fitted = model.fit_settle(with).unwrap_or(f64::NAN);
+        let fitted = TimeModel::default().fit_settle(with).unwrap_or(f64::NAN);
         assert!((fitted - FITTED_SETTLE).abs() < 1e-12);
+        // Blending, the lift flows into the run to the bin: the same motion, one settle fewer.
+        let blending = TimeModel::default();
+        let with = blending.nominal_trip_seconds(&gripper);
+        let without = settle_free(&blending).nominal_trip_seconds(&gripper);
+        assert!((with - without - 6.0 * FITTED_SETTLE).abs() < 1e-12);
+        assert_eq!(
+            without,
+            settle_free(&stopping).nominal_trip_seconds(&gripper)
+        );
+    }
+
+    #[test]
+    fn a_blended_push_saves_two_stops_unless_a_look_follows_it() {
+        let (blending, gripper) = (TimeModel::default(), Gripper::default());
+        let stopping = TimeModel {
+            blend_free_moves: false,
+            ..blending.clone()
+        };
+        let grasp = TimeModel::nominal_grasp(&gripper);
+        let push = |y: f64, look_after: bool| PushPath {
+            approach: Point2::new(0.0, y + 0.02),
+            end: Point2::new(0.0, y),
+            opening: gripper.fork_push_opening(),
+            look_after,
+        };
+        let added = |model: &TimeModel, pushes: &[PushPath]| {
+            model.trip_seconds(&gripper, pushes, &grasp) - model.trip_seconds(&gripper, &[], &grasp)
+        };
+        let pushes = [push(0.0, false), push(0.1, false)];
+        let saved = added(&stopping, &pushes) - added(&blending, &pushes);
+        // Travel and rise of each push flow on: two settles a push.
+        assert!((saved - 4.0 * FITTED_SETTLE).abs() < 1e-9, "{saved}");
+        // A look after the second push: its rise stops.
+        let looked = [push(0.0, false), push(0.1, true)];
+        let saved = added(&stopping, &looked) - added(&blending, &looked);
+        assert!((saved - 3.0 * FITTED_SETTLE).abs() < 1e-9, "{saved}");
+        // The planning estimate of a later push is the trip's commands but for where it travels:
+        // here 0.12 m to its approach (the estimate: its length, 0.02 m), and the grasp 0.1 m away.
+        let later = blending.nominal_later_push_seconds(0.02);
+        let one = added(&blending, &pushes[..1]);
+        let two = added(&blending, &pushes);
+        let travel =
+            blending.move_seconds(0.12) - blending.move_seconds(0.02) + blending.move_seconds(0.1);
+        assert!(
+            (two - one - later - travel).abs() < 1e-9,
+            "{}",
+            two - one - later
+        );
     }
 
     #[test]
@@ -377,11 +468,13 @@ mod tests {
             approach: Point2::new(0.0, 0.02),
             end: Point2::new(0.0, 0.01),
             opening: gripper.fork_push_opening(),
+            look_after: false,
         };
         let far = PushPath {
             approach: Point2::new(0.0, 0.30),
             end: Point2::new(0.0, 0.29),
             opening: gripper.fork_push_opening(),
+            look_after: false,
         };
         assert!(
             model.trip_seconds(&gripper, &[far], &grasp)
@@ -397,6 +490,7 @@ mod tests {
             approach: Point2::new(0.0, y + 0.01),
             end: Point2::new(0.0, y),
             opening: gripper.fork_push_opening(),
+            look_after: false,
         };
         let jaw_commands = |pushes: &[PushPath]| {
             model

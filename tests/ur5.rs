@@ -101,8 +101,11 @@ fn a_whole_plan_reaches_the_fakes_step_by_step() {
     for axis in 0..3 {
         assert!((end.tcp_pose[axis] - config.bin.drop[axis]).abs() < 1e-5);
     }
-    // Five steps per push (four when the jaws already stand at its opening), six per grasp.
+    // Three steps per push (two when the jaws already stand at its opening): its move above the
+    // start flows into its descent, and its rise into the next move, one program each; six per
+    // grasp; one more where the rise stops for a look.
     let pushes: usize = plan.trips.iter().map(|t| t.pushes.len()).sum();
+    let looks: usize = plan.trips.iter().map(|t| t.looks.len()).sum();
     let jaws_kept: usize = plan
         .trips
         .iter()
@@ -113,24 +116,36 @@ fn a_whole_plan_reaches_the_fakes_step_by_step() {
                 .count()
         })
         .sum();
-    assert_eq!(steps.len(), 5 * pushes - jaws_kept + 6 * plan.trips.len());
+    assert_eq!(
+        steps.len(),
+        3 * pushes - jaws_kept + looks + 6 * plan.trips.len()
+    );
 }
 
-/// Whether each command is an arm move (`false`) or a jaw command (`true`).
-fn command_kinds(commands: &[Command]) -> Vec<bool> {
+/// What a command is: a jaw command (`'J'`), an arm move that stops (`'A'`) or one that flows into
+/// the next without stopping (`'T'`).
+fn command_kinds(commands: &[Command]) -> String {
     commands
         .iter()
-        .map(|c| matches!(c, Command::Jaws(_)))
+        .map(|c| match c {
+            Command::Jaws(_) => 'J',
+            Command::Through(_) => 'T',
+            _ => 'A',
+        })
         .collect()
 }
 
-/// The same for robot steps: one arm command per linear move, one jaw command per gripper step.
-fn step_kinds(steps: &[pushmog::exec::ur5::Step]) -> Vec<bool> {
+/// The same for robot steps: one arm command per linear move (`'T'` when it blends into the next),
+/// one jaw command per gripper step.
+fn step_kinds(steps: &[pushmog::exec::ur5::Step]) -> String {
     steps
         .iter()
         .flat_map(|step| match &step.action {
-            Action::Move { moves } => vec![false; moves.len()],
-            Action::Gripper { .. } => vec![true],
+            Action::Move { moves } => moves
+                .iter()
+                .map(|m| if m.blend > 0.0 { 'T' } else { 'A' })
+                .collect(),
+            Action::Gripper { .. } => vec!['J'],
         })
         .collect()
 }
@@ -165,21 +180,28 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
         "a trip pushing two rows ahead or more"
     );
     let mut jaws_left_out = 0;
+    let mut blended = 0;
     for plan in [fixture_plan(), run, ahead] {
         for (t, trip) in plan.trips.iter().enumerate() {
             let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();
-            let steps = translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1);
-            let charged = model.trip_commands(
-                gripper,
-                &push_paths(&trip.pushes),
-                &grasp_path(&trip.grasp, gripper),
-            );
+            let looks: Vec<usize> = trip.looks.iter().map(|l| l.after_pushes).collect();
+            let steps = translator.trip(&scene, &trip.pushes, &looks, &trip.grasp, t + 1);
+            let mut paths = push_paths(&trip.pushes);
+            for &after in &looks {
+                paths[after - 1].look_after = true;
+            }
+            let charged = model.trip_commands(gripper, &paths, &grasp_path(&trip.grasp, gripper));
             assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
             jaws_left_out += 5 * trip.pushes.len() + 7 - charged.len();
+            blended += charged
+                .iter()
+                .filter(|c| matches!(c, Command::Through(_)))
+                .count();
         }
     }
     assert!(jaws_left_out > 0, "some push found the jaws at its opening");
+    assert!(blended > 0, "some move flowed into the next");
 }
 
 #[test]

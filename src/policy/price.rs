@@ -157,10 +157,14 @@ impl Pricing {
         look: bool,
     ) -> f64 {
         let jaws = grasp_path(ahead.unwrap_or(grasp), gripper);
-        let look = if look { model.look_seconds() } else { 0.0 };
         let before = push_paths(earlier);
         let mut paths = before.clone();
         paths.extend(push_paths(pushes));
+        if let Some(last) = paths.last_mut() {
+            // The arm stops out of the rise for the look.
+            last.look_after = look;
+        }
+        let look = if look { model.look_seconds() } else { 0.0 };
         let pushing = model.trip_seconds(gripper, &paths, &jaws)
             - model.trip_seconds(gripper, &before, &jaws);
         let mean = pushes.iter().map(|p| p.distance).sum::<f64>() / pushes.len().max(1) as f64;
@@ -208,6 +212,7 @@ pub fn push_paths(pushes: &[Push]) -> Vec<PushPath> {
             approach: p.fork.approach,
             end: p.fork.end,
             opening: p.fork.opening,
+            look_after: false,
         })
         .collect()
 }

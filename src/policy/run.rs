@@ -340,7 +340,16 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
     let trips_seconds: f64 = trips
         .iter()
         .map(|trip| {
-            let pushes = super::push_paths(&trip.pushes);
+            let mut pushes = super::push_paths(&trip.pushes);
+            for look in &trip.looks {
+                if let Some(push) = look
+                    .after_pushes
+                    .checked_sub(1)
+                    .and_then(|k| pushes.get_mut(k))
+                {
+                    push.look_after = true;
+                }
+            }
             model.trip_seconds(gripper, &pushes, &super::grasp_path(&trip.grasp, gripper))
         })
         .sum();

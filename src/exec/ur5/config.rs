@@ -107,6 +107,14 @@ pub struct HeightsConfig {
     pub push_fraction: f64,
     /// When set, every object's height instead of the heights in the plan's scenes.
     pub object_height: Option<f64>,
+    /// Blend radius of a move that flows into the next through free air (a push's rise into the
+    /// travel onward, the travel to a push into its descent, a grasp's lift into the run to the
+    /// bin): the controller turns the corner within this distance of the waypoint instead of
+    /// stopping there (URScript `movel`'s `r`). At most `clearance`, so the cut corner stays above
+    /// the tallest object; each blend is also held to half of either move it joins, since blends may
+    /// not overlap. 0 stops after every move; the time model's `blend_free_moves` should then be
+    /// false. Default 0.02.
+    pub blend_radius: f64,
 }
 
 impl Default for HeightsConfig {
@@ -117,6 +125,7 @@ impl Default for HeightsConfig {
             grasp: 0.005,
             push_fraction: 0.5,
             object_height: None,
+            blend_radius: 0.02,
         }
     }
 }
@@ -377,6 +386,12 @@ impl RobotConfig {
             self.heights.clearance,
             (0.0, 0.5),
             "metres above the tallest object",
+        )?;
+        within(
+            "heights.blend_radius",
+            self.heights.blend_radius,
+            (0.0, self.heights.clearance),
+            "metres; a blend wider than the clearance could cut a corner into the tallest object",
         )?;
         within(
             "heights.grasp",

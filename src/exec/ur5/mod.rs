@@ -221,7 +221,8 @@ impl<L: RobotLink> StepRunner<L> {
         total
     }
 
-    fn last_position(&self) -> Option<[f64; 3]> {
+    /// Where the tool stood at the end of the last motion step carried out, if any.
+    pub fn last_position(&self) -> Option<[f64; 3]> {
         self.steps.iter().rev().find_map(|s| match &s.action {
             Action::Move { moves } => moves.last().map(|m| m.to.position),
             Action::Gripper { .. } => None,
@@ -255,7 +256,8 @@ pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
             Some(&trip.grasp),
             t + 1,
         )?;
-        steps.extend(translator.trip(&scene, &trip.pushes, &trip.grasp, t + 1));
+        let looks: Vec<usize> = trip.looks.iter().map(|look| look.after_pushes).collect();
+        steps.extend(translator.trip(&scene, &trip.pushes, &looks, &trip.grasp, t + 1));
     }
     Ok(steps)
 }
@@ -288,6 +290,9 @@ pub struct Ur5<L: RobotLink> {
     /// The jaws' opening when the gripper's last command was a fork push's (`None` after a grasp:
     /// the jaws are fully open at the bin).
     jaws: Option<f64>,
+    /// The rise of the last fork push, held back to flow into the next action's first move (the
+    /// tool waits at the push's end until then).
+    rise: Option<Step>,
     record: Vec<ExecutedTrip>,
 }
 
@@ -300,6 +305,7 @@ impl<L: RobotLink> Ur5<L> {
             scene: None,
             pushed: false,
             jaws: None,
+            rise: None,
             record: Vec::new(),
         }
     }
@@ -329,6 +335,25 @@ impl<L: RobotLink> Ur5<L> {
         Ok(&mut self.record[last])
     }
 
+    /// Carries out `steps` after the held-back rise, if any, joined with it where they flow on.
+    fn run_after_rise(&mut self, steps: Vec<Step>) -> Result<()> {
+        let steps: Vec<Step> = self.rise.take().into_iter().chain(steps).collect();
+        let from = self.runner.last_position();
+        let steps = self.runner.translator().blend(steps, from);
+        self.runner.run(steps)
+    }
+
+    /// Makes the held-back rise, if any, stopping at its top (before a look, or a new run).
+    fn finish_rise(&mut self) -> Result<()> {
+        match self.rise.take() {
+            Some(mut rise) => {
+                motion::stop_at_end(std::slice::from_mut(&mut rise));
+                self.runner.run(vec![rise])
+            }
+            None => Ok(()),
+        }
+    }
+
     fn scene(&self) -> Result<&Scene> {
         self.scene
             .as_ref()
@@ -343,6 +368,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
 
     /// Starts a new run on `scene` (the first observation); the trip record starts afresh.
     fn reset(&mut self, scene: &Scene) -> Result<()> {
+        self.finish_rise()?;
         self.scene = Some(scene.clone());
         self.pushed = false;
         self.jaws = None;
@@ -360,11 +386,14 @@ impl<L: RobotLink> Executor for Ur5<L> {
             None,
             self.record.len(),
         )?;
-        let steps = self
+        let mut steps = self
             .runner
             .translator()
             .fork_push(self.scene()?, push, &name, self.jaws);
-        self.runner.run(steps)?;
+        // The rise waits for the next action, whose first move it flows into.
+        let rise = steps.pop();
+        self.run_after_rise(steps)?;
+        self.rise = rise;
         self.pushed = true;
         self.jaws = Some(push.fork.opening);
         self.current_trip()?.pushes.push(push.clone());
@@ -386,7 +415,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
             .translator()
             .grasp_and_trip(self.scene()?, grasp, &name);
         self.jaws = None;
-        self.runner.run(steps)?;
+        self.run_after_rise(steps)?;
         self.current_trip()?.grasp = Some(grasp.clone());
         let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();
         let after = self.observation.read()?;
@@ -405,6 +434,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
     /// The table as last read: read again when nothing was read yet or the arm has pushed since
     /// (after a grasp the table is read anyway, to see what was carried).
     fn observe(&mut self) -> Result<Scene> {
+        self.finish_rise()?;
         if self.scene.is_none() || self.pushed {
             self.scene = Some(self.observation.read()?);
             self.pushed = false;

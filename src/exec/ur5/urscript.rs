@@ -47,9 +47,14 @@ pub fn motion_program(
     for m in moves {
         let [x, y, z] = m.to.position;
         let [rx, ry, rz] = m.to.rotation;
+        let blend = if m.blend > 0.0 {
+            format!(", r={:.4}", m.blend)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             text,
-            "  movel({}, a={:.3}, v={:.3})",
+            "  movel({}, a={:.3}, v={:.3}{blend})",
             pose_literal([x, y, z, rx, ry, rz]),
             m.acceleration,
             m.speed
@@ -125,9 +130,14 @@ pub fn step_list(steps: &[Step]) -> String {
                 let _ = writeln!(text, "{index:4}  {}", step.label);
                 for m in moves {
                     let [x, y, z] = m.to.position;
+                    let blend = if m.blend > 0.0 {
+                        format!(", on through a {:.1} mm blend", m.blend * 1e3)
+                    } else {
+                        String::new()
+                    };
                     let _ = writeln!(
                         text,
-                        "      movel to ({:.1}, {:.1}, {:.1}) mm at {:.0} mm/s",
+                        "      movel to ({:.1}, {:.1}, {:.1}) mm at {:.0} mm/s{blend}",
                         x * 1e3,
                         y * 1e3,
                         z * 1e3,
