@@ -541,6 +541,28 @@ fn the_closed_loop_replans_on_each_observation() {
         .filter(|s| matches!(s.action, Action::Move { .. }))
         .count();
     assert_eq!(controller.programs().len(), motions);
+    // The closed loop holds each push's rise back for the next action (or stops it for a look):
+    // the moves it sent stop and blend exactly where the time model charges a stop or none.
+    let model = TimeModel::default();
+    let charged: String = run
+        .trips
+        .iter()
+        .map(|trip| {
+            let gripper = trip.scene.gripper.clone();
+            let mut paths = push_paths(&trip.pushes);
+            for look in &trip.looks {
+                paths[look.after_pushes - 1].look_after = true;
+            }
+            command_kinds(&model.trip_commands(
+                &gripper,
+                &paths,
+                &grasp_path(&trip.grasp, &gripper),
+            ))
+        })
+        .collect();
+    assert_eq!(step_kinds(robot.runner().steps()), charged);
+    let looks: usize = run.trips.iter().map(|t| t.looks.len()).sum();
+    assert!(looks > 0 && charged.contains('T'), "looks and blends");
 }
 
 #[test]

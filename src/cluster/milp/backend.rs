@@ -36,19 +36,10 @@ impl Milp {
 
     fn solve_microlp(&self, model: &Model<'_>) -> Solved {
         let (problem, x, rows) = build(model);
-        let mut solver = problem
-            .using(good_lp::microlp)
-            .with_time_limit(model.time_limit)
-            .with_initial_solution(warm_start(model, &x));
-        if model.mip_gap > 0.0 {
-            match solver.with_mip_gap(model.mip_gap as f32) {
-                Ok(with_gap) => solver = with_gap,
-                Err(e) => return failed(format!("mip gap: {e}")),
-            }
-        }
-        for row in rows {
-            solver.add_constraint(row);
-        }
+        let solver = match configured(problem.using(good_lp::microlp), model, &x, rows) {
+            Ok(solver) => solver,
+            Err(reason) => return failed(reason),
+        };
         match solver.solve() {
             Ok(solution) => {
                 let chosen = chosen(&x, |v| solution.value(v));
@@ -81,19 +72,10 @@ impl Milp {
     #[cfg(feature = "highs")]
     fn solve_highs(&self, model: &Model<'_>) -> Solved {
         let (problem, x, rows) = build(model);
-        let mut solver = problem
-            .using(good_lp::highs)
-            .with_time_limit(model.time_limit)
-            .with_initial_solution(warm_start(model, &x));
-        if model.mip_gap > 0.0 {
-            match solver.with_mip_gap(model.mip_gap as f32) {
-                Ok(with_gap) => solver = with_gap,
-                Err(e) => return failed(format!("mip gap: {e}")),
-            }
-        }
-        for row in rows {
-            solver.add_constraint(row);
-        }
+        let solver = match configured(problem.using(good_lp::highs), model, &x, rows) {
+            Ok(solver) => solver,
+            Err(reason) => return failed(reason),
+        };
         match solver.solve() {
             Ok(solution) => {
                 let status = match solution.status() {
@@ -114,6 +96,31 @@ impl Milp {
             Err(error) => resolution_failure(error),
         }
     }
+}
+
+/// `solver` with the model's time limit, warm start, MIP gap (when positive) and rows: the set-up
+/// both backends share (the error: why the gap was refused).
+fn configured<S>(
+    mut solver: S,
+    model: &Model<'_>,
+    x: &[Variable],
+    rows: Vec<Constraint>,
+) -> Result<S, String>
+where
+    S: SolverModel + WithTimeLimit + WithInitialSolution + WithMipGap,
+{
+    solver = solver
+        .with_time_limit(model.time_limit)
+        .with_initial_solution(warm_start(model, x));
+    if model.mip_gap > 0.0 {
+        solver = solver
+            .with_mip_gap(model.mip_gap as f32)
+            .map_err(|e| format!("mip gap: {e}"))?;
+    }
+    for row in rows {
+        solver.add_constraint(row);
+    }
+    Ok(solver)
 }
 
 fn failed(reason: String) -> Solved {
