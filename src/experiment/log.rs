@@ -160,33 +160,14 @@ pub fn machine_description() -> String {
     )
 }
 
-/// The git commit of the current directory's repository, with `-dirty` appended when the code
-/// (`src/`, `Cargo.toml`, `Cargo.lock`) differs from it, so a log never claims a commit its code did
-/// not come from; `unknown` outside a repository. Logs and tables are outputs and do not count.
+/// The git commit the library was built from, with `-dirty` appended when its code (`src/`,
+/// `Cargo.toml`, `Cargo.lock`) differed from that commit, so a log never claims a commit its code did
+/// not come from; `unknown` when it was built outside a repository. Recorded at build time
+/// (`build.rs`): a binary run from another checkout still names its own.
 pub fn git_commit() -> String {
-    let git = |args: &[&str]| {
-        std::process::Command::new("git")
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let Some(commit) = git(&["rev-parse", "HEAD"]) else {
-        return "unknown".to_string();
-    };
-    match git(&[
-        "status",
-        "--porcelain",
-        "--untracked-files=no",
-        "--",
-        "src",
-        "Cargo.toml",
-        "Cargo.lock",
-    ]) {
-        Some(changes) if !changes.is_empty() => format!("{commit}-dirty"),
-        _ => commit,
-    }
+    option_env!("PUSHMOG_GIT_COMMIT")
+        .unwrap_or("unknown")
+        .to_string()
 }
 
 /// Reads a log; a torn last line (an interrupted write) is ignored. The rows must be the runs of the
