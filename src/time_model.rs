@@ -262,8 +262,8 @@ impl TimeModel {
     /// jaw command to its opening (left out when the jaws stand there already), travel, descend,
     /// push, rise; then travel to the grasp, jaws to the grasp's opening, descend, close, lift, to the
     /// bin, open fully. With [`TimeModel::blend_free_moves`] the travel to a push, a push's rise
-    /// (unless a look follows it) and the lift are [`Command::Through`]: each flows into the next
-    /// arm move, which is always one through free air.
+    /// (unless a look or a jaw command follows it) and the lift are [`Command::Through`]: each flows
+    /// into the next arm move, which is always one through free air.
     pub fn trip_commands(
         &self,
         gripper: &Gripper,
@@ -285,7 +285,7 @@ impl TimeModel {
                 Command::Arm(distance)
             }
         };
-        for push in pushes {
+        for (k, push) in pushes.iter().enumerate() {
             if push.opening != jaws {
                 commands.push(Command::Jaws(jaws - push.opening));
                 jaws = push.opening;
@@ -293,7 +293,14 @@ impl TimeModel {
             commands.push(flowing(travel(push.approach, &mut at), true));
             commands.push(Command::Arm(self.approach_height));
             commands.push(Command::Push(nalgebra::distance(&push.approach, &push.end)));
-            commands.push(flowing(self.approach_height, !push.look_after));
+            // The rise stops for a look, or for the jaw command of a push at another opening.
+            let jaws_next = pushes
+                .get(k + 1)
+                .is_some_and(|next| next.opening != push.opening);
+            commands.push(flowing(
+                self.approach_height,
+                !push.look_after && !jaws_next,
+            ));
             at = Some(push.end);
         }
         commands.push(Command::Arm(travel(grasp.center, &mut at)));
@@ -445,6 +452,14 @@ mod tests {
         // A look after the second push: its rise stops.
         let looked = [push(0.0, false), push(0.1, true)];
         let saved = added(&stopping, &looked) - added(&blending, &looked);
+        assert!((saved - 3.0 * FITTED_SETTLE).abs() < 1e-9, "{saved}");
+        // So does a rise followed by a jaw command (a push at another opening).
+        let narrow = PushPath {
+            opening: gripper.plate_thickness + 0.002,
+            ..push(0.1, false)
+        };
+        let reopened = [push(0.0, false), narrow];
+        let saved = added(&stopping, &reopened) - added(&blending, &reopened);
         assert!((saved - 3.0 * FITTED_SETTLE).abs() < 1e-9, "{saved}");
         // The planning estimate of a later push is the trip's commands but for where it travels:
         // here 0.12 m to its approach (the estimate: its length, 0.02 m), and the grasp 0.1 m away.

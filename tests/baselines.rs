@@ -154,6 +154,61 @@ fn three_equilateral_triangles_are_handled_without_a_crash() {
     }
 }
 
+/// `multi.edge_margin`: a pair whose member lies within the margin of the workspace's edge is not
+/// grasped together (a failed pair grasp near the edge squeezes objects out of the workspace); the
+/// same pair farther in is.
+#[test]
+fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
+    let pair_at = |x: f64| {
+        scene(vec![
+            object(0, square(0.03), x, 0.2),
+            object(1, square(0.03), x + 0.031, 0.2),
+        ])
+    };
+    let with_margin = |margin: f64| {
+        MultiObject::new(
+            pushmog::grasp::MultiObjectSettings {
+                edge_margin: margin,
+                ..pushmog::grasp::MultiObjectSettings::default()
+            },
+            pushmog::problem::Problem::shared_default(),
+        )
+        .unwrap()
+    };
+    let both = [ObjectId(0), ObjectId(1)];
+    let held = |planner: &MultiObject, scene: &Scene| {
+        planner
+            .plan(scene, &both)
+            .unwrap()
+            .value
+            .map(|grasp| grasp.objects.len())
+    };
+    // The left square's outline 10 mm from the left edge.
+    let near = pair_at(0.025);
+    let inside = pair_at(0.2);
+    assert_eq!(held(&with_margin(0.0), &near), Some(2));
+    assert_eq!(held(&with_margin(0.02), &inside), Some(2));
+    let refused = with_margin(0.02).plan(&near, &both).unwrap();
+    assert_ne!(refused.value.map(|grasp| grasp.objects.len()), Some(2));
+    assert!(
+        refused
+            .stats
+            .counter("refused: near the workspace edge")
+            .unwrap_or(0.0)
+            > 0.0,
+        "{:?}",
+        refused.stats
+    );
+    assert!(
+        pushmog::grasp::MultiObjectSettings {
+            edge_margin: 0.5,
+            ..Default::default()
+        }
+        .validate()
+        .is_err()
+    );
+}
+
 #[test]
 fn two_squares_side_by_side_are_held_together() {
     let s = scene(vec![

@@ -6,6 +6,11 @@
 //! - Grasp and trip (six steps): move above the grasp, open fully, descend, close with limited force,
 //!   move to the bin (straight up first, then across), open to drop.
 //!
+//! A move through free air that another arm move follows (a push's rise, the move above a push's
+//! start, the rise before the bin) carries the configured blend radius, and [`Translator::blend`]
+//! puts it into one program with the move after it, so the controller turns that corner without
+//! stopping (`formulations/ur5.md`, "Blends").
+//!
 //! The tool points down with the jaws' closing axis along the plan's jaw angle. With the tool frame's
 //! y axis taken as the closing axis (the 2F-85 mounted as Robotiq documents it; `yaw_offset` otherwise),
 //! the tool orientation in the base frame is `R · Rz(θ) · Rx(π)` with `R` the table-to-base rotation
@@ -384,9 +389,12 @@ impl Translator {
     /// gripper step or the end) stops. `from` is where the tool stands before `steps` (`None`:
     /// unknown, the first move's length does not narrow its blend).
     pub fn blend(&self, steps: Vec<Step>, from: Option<[f64; 3]>) -> Vec<Step> {
+        let flows_on = |step: &Step| match &step.action {
+            Action::Move { moves } => moves.last().is_some_and(|m| m.blend > 0.0),
+            Action::Gripper { .. } => false,
+        };
         let mut joined: Vec<Step> = Vec::with_capacity(steps.len());
         for step in steps {
-            let flows_on = |s: &Step| matches!(&s.action, Action::Move { moves } if moves.last().is_some_and(|m| m.blend > 0.0));
             match (joined.last_mut(), step.action) {
                 (Some(last), Action::Move { moves }) if flows_on(last) => {
                     if let Action::Move { moves: before } = &mut last.action {
