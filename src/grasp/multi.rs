@@ -81,8 +81,8 @@ pub struct MultiObjectSettings {
     /// holds, on the table the grasp is planned for. A multi-object grasp that fails squeezes its
     /// objects along the plates or shoves them a few millimetres, and an object that close to the
     /// edge then leaves the workspace: such objects are taken one at a time. Default 0 (no margin,
-    /// as the Push-MOG paper). 0.02 took most losses outside the workspace away from push-mog-time
-    /// on training scenes, at 0.023 of its ratio to sog's picks per hour
+    /// as the Push-MOG paper). 0.02 took three of four losses outside the workspace away from
+    /// push-mog-time on 150 training scenes, at 0.023 of its ratio to sog's picks per hour
     /// (`formulations/picks-per-hour.md`, "Objects near the edge").
     pub edge_margin: f64,
 }
