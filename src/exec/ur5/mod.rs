@@ -4,6 +4,7 @@
 //!   the table-to-base transform to measured point pairs by least squares and reports the residual.
 //! - [`Translator`] (`motion.rs`): fork pushes (five steps) and grasps with their trips (six steps) as
 //!   tool moves and gripper commands in the base frame, checked against the safety envelope.
+//! - `blend.rs`: a trip's steps, free-air moves joined with the next into one blended program.
 //! - `urscript.rs`: each motion step as one URScript program; the listings of a dry run.
 //! - [`RobotLink`] (`link.rs`): [`DryRun`] records, [`Live`] talks to the secondary interface (30002),
 //!   RTDE (30004) and the Robotiq URCap socket (63352). `rtde.rs` holds the RTDE packages.
@@ -17,6 +18,7 @@
 //! (lost connection, gripper fault, timeout) nothing more is sent: the error names the step reached
 //! and the last known state. The geometry is written out in `formulations/ur5.md`.
 
+mod blend;
 mod calibration;
 mod config;
 pub mod fake;
@@ -208,12 +210,7 @@ impl<L: RobotLink> StepRunner<L> {
                         .sum::<f64>()
                         .sqrt()
                 },
-                |f| {
-                    (0..3)
-                        .map(|i| (m.to.position[i] - f[i]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                },
+                |f| blend::distance(f, m.to.position),
             );
             total += move_duration(length, m.speed, m.acceleration);
             from = Some(m.to.position);
@@ -347,7 +344,7 @@ impl<L: RobotLink> Ur5<L> {
     fn finish_rise(&mut self) -> Result<()> {
         match self.rise.take() {
             Some(mut rise) => {
-                motion::stop_at_end(std::slice::from_mut(&mut rise));
+                blend::stop_at_end(std::slice::from_mut(&mut rise));
                 self.runner.run(vec![rise])
             }
             None => Ok(()),
