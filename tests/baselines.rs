@@ -5,7 +5,8 @@ use nalgebra::Point2;
 use pushmog::cluster::{Clusterer, Hierarchical, fits_jaws, separability_conflicts};
 use pushmog::geometry::ConvexPolygon;
 use pushmog::grasp::{
-    GraspModel, GraspPlanner, JawPose, Mechanics, MultiObject, SingleObject, Squeeze, squeeze,
+    GraspModel, GraspPlanner, GraspRequest, JawPose, Mechanics, MultiObject, SingleObject, Squeeze,
+    squeeze,
 };
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
@@ -353,11 +354,11 @@ fn conformance_of_every_planner() {
     }
 }
 
-/// `plan_several` answers with two or more objects or nothing, and finds a grasp of two or more
+/// A request for several objects is answered with two or more objects or nothing, and finds a grasp of two or more
 /// wherever the full search ranks one first, with a probability at least as high; on the tables
 /// predicted after pushes it also finds pairs where the full search preferred one object.
 #[test]
-fn plan_several_finds_the_pairs_the_full_search_finds() {
+fn a_request_for_several_finds_the_pairs_the_full_search_finds() {
     let planner = MultiObject::default();
     let (mut several, mut pairs_first) = (0, 0);
     for seed in 0..6 {
@@ -373,12 +374,11 @@ fn plan_several_finds_the_pairs_the_full_search_finds() {
             let after = predict(&scene, &pushes.pushes).unwrap();
             let hints: Vec<JawPose> = pushes.intended_grasp.into_iter().collect();
             let pushed: Vec<ObjectId> = pushes.pushes.iter().map(|p| p.object).collect();
-            let all = planner
-                .plan_after_pushes(&after, cluster, &hints, &pushed, &[])
-                .unwrap();
-            let only = planner
-                .plan_several(&after, cluster, &hints, &pushed, &[])
-                .unwrap();
+            let request = GraspRequest::new(&after, cluster)
+                .hints(&hints)
+                .pushed(&pushed);
+            let all = planner.plan_request(&request).unwrap();
+            let only = planner.plan_request(&request.several()).unwrap();
             if let Some(grasp) = &only.value {
                 assert!(grasp.objects.len() >= 2, "seed {seed}: {grasp:?}");
                 several += 1;

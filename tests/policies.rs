@@ -148,6 +148,78 @@ fn a_used_policy_plans_as_a_fresh_one() {
     }
 }
 
+/// A grasp planner of one's own plugs into push-mog-opt through the builder, and the policy grasps
+/// only through it: one that hands on the built-in planner's answers plans exactly as the preset
+/// does, asked only for two or more objects; one that never answers leaves single-object grasps
+/// alone, and the table is still cleared by a plan the verifier accepts.
+#[test]
+fn a_grasp_planner_of_ones_own_plugs_into_push_mog_opt() {
+    use pushmog::grasp::{Grasp, GraspPlanner, GraspRequest, MultiObject};
+    use pushmog::outcome::{Outcome, Status};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    #[derive(Debug, Default)]
+    struct Counting {
+        inner: MultiObject,
+        asked: AtomicUsize,
+        refuse: bool,
+    }
+    impl GraspPlanner for Counting {
+        fn name(&self) -> &'static str {
+            "counting"
+        }
+        fn plan_request(
+            &self,
+            request: &GraspRequest<'_>,
+        ) -> pushmog::Result<Outcome<Option<Grasp>>> {
+            assert_eq!(request.min_objects, 2, "asked for one object");
+            self.asked.fetch_add(1, Ordering::Relaxed);
+            let mut answer = self.inner.plan_request(request)?;
+            if self.refuse {
+                answer.value = None;
+                answer.status = Status::Failed {
+                    reason: "refuses".to_string(),
+                };
+            }
+            Ok(answer)
+        }
+    }
+    let table = scene(2);
+    let preset = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let expected = preset.run(&table, &mut preset.ideal(), 2).unwrap();
+    for refuse in [false, true] {
+        let counting = std::sync::Arc::new(Counting {
+            refuse,
+            ..Counting::default()
+        });
+        #[derive(Debug)]
+        struct Shared(std::sync::Arc<Counting>);
+        impl GraspPlanner for Shared {
+            fn name(&self) -> &'static str {
+                self.0.name()
+            }
+            fn plan_request(
+                &self,
+                request: &GraspRequest<'_>,
+            ) -> pushmog::Result<Outcome<Option<Grasp>>> {
+                self.0.plan_request(request)
+            }
+        }
+        let policy = Policy::builder(PolicyKind::PushMogOpt)
+            .multi_object_planner(Shared(counting.clone()))
+            .build()
+            .unwrap();
+        let plan = policy.run(&table, &mut policy.ideal(), 2).unwrap();
+        assert!(counting.asked.load(Ordering::Relaxed) > 0);
+        assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+        assert_eq!(plan.status, RunStatus::Cleared);
+        if refuse {
+            assert!(plan.trips.iter().all(|t| t.carried.len() == 1));
+        } else {
+            assert_eq!(plan, expected);
+        }
+    }
+}
+
 /// Two 7 × 50 mm bars stranded 2 mm apart and 1.5° off parallel (what pushing thin bars together can
 /// leave): too close for a plate between them, and a row the grasp model may refuse. Every policy
 /// that may grasp several objects clears them, with plans applied exactly and in the simulator; no

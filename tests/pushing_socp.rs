@@ -4,7 +4,7 @@ use crate::support::boxes;
 use nalgebra::Vector2;
 use pushmog::cluster::{Clusterer, Hierarchical};
 use pushmog::geometry::distance;
-use pushmog::grasp::{GraspModel, GraspPlanner, MultiObject, MultiObjectSettings};
+use pushmog::grasp::{GraspModel, GraspPlanner, GraspRequest, MultiObject, MultiObjectSettings};
 use pushmog::outcome::Outcome;
 use pushmog::plan::Status;
 use pushmog::problem::Problem;
@@ -332,10 +332,11 @@ fn rows_held_under_noise_are_grasped_by_the_multi_object_planner() {
             let after = predict(&scene, &plan.pushes).unwrap();
             let pushed: Vec<ObjectId> = plan.pushes.iter().map(|p| p.object).collect();
             let hints: Vec<_> = plan.intended_grasp.into_iter().collect();
-            let grasp = multi
-                .plan_several(&after, cluster, &hints, &pushed, &[])
-                .unwrap()
-                .value;
+            let request = GraspRequest::new(&after, cluster)
+                .hints(&hints)
+                .pushed(&pushed)
+                .several();
+            let grasp = multi.plan_request(&request).unwrap().value;
             assert!(
                 grasp.is_some_and(|g| g.objects.len() >= 2),
                 "seed {seed}, cluster {cluster:?}: a row held under noise has no grasp"

@@ -59,30 +59,129 @@ pub struct Grasp {
     pub margin: f64,
 }
 
-/// A way to choose a grasp among some target objects.
+/// What a policy asks a grasp planner: a grasp that carries at least `min_objects` of `targets`.
+///
+/// ```
+/// use pushmog::grasp::{GraspPlanner, GraspRequest, MultiObject};
+/// use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+/// let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 1).unwrap();
+/// let targets: Vec<_> = scene.objects().iter().take(3).map(|o| o.id).collect();
+/// // Two or more of the first three objects at once, or nothing.
+/// let answer = MultiObject::default().plan_request(&GraspRequest::new(&scene, &targets).several()).unwrap();
+/// if let Some(grasp) = answer.value {
+///     assert!(grasp.objects.len() >= 2);
+/// }
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct GraspRequest<'a> {
+    /// The table: as observed, or as predicted after pushes.
+    pub scene: &'a Scene,
+    /// The objects the grasp is for.
+    pub targets: &'a [ObjectId],
+    /// Suggested jaw poses, for instance the grasp a push planner arranged a row for. Planners that
+    /// cannot use hints ignore them.
+    pub hints: &'a [JawPose],
+    /// Objects standing where pushes are meant to leave them rather than where a camera saw them, so
+    /// less certain of place: the built-in planner keeps its plates further from them.
+    pub pushed: &'a [ObjectId],
+    /// Jaws of grasps that failed before: never propose jaws in the same place
+    /// ([`JawPose::same_place`]).
+    pub avoid: &'a [JawPose],
+    /// Fewest of `targets` the grasp must be predicted to carry: 1, or 2 when the policy asks for a
+    /// multi-object grasp and would otherwise push nothing or take one object by itself.
+    pub min_objects: usize,
+}
+
+impl<'a> GraspRequest<'a> {
+    /// A grasp of at least one of `targets` on the table as it is, with no hints and nothing to avoid.
+    pub fn new(scene: &'a Scene, targets: &'a [ObjectId]) -> Self {
+        Self {
+            scene,
+            targets,
+            hints: &[],
+            pushed: &[],
+            avoid: &[],
+            min_objects: 1,
+        }
+    }
+
+    /// With these suggested jaw poses.
+    pub fn hints(self, hints: &'a [JawPose]) -> Self {
+        Self { hints, ..self }
+    }
+
+    /// With these objects placed by pushes, not yet seen where they stand.
+    pub fn pushed(self, pushed: &'a [ObjectId]) -> Self {
+        Self { pushed, ..self }
+    }
+
+    /// Never in the same place as these jaws.
+    pub fn avoiding(self, avoid: &'a [JawPose]) -> Self {
+        Self { avoid, ..self }
+    }
+
+    /// Two or more of the targets, or nothing.
+    pub fn several(self) -> Self {
+        Self {
+            min_objects: 2,
+            ..self
+        }
+    }
+
+    /// Why `grasp` does not answer this request (carries too few targets, or lies where a grasp
+    /// failed before), or `None` when it does. For planners that check their answer afterwards.
+    pub fn refusal(&self, grasp: &Grasp) -> Option<String> {
+        if self.avoid.iter().any(|a| a.same_place(&grasp.jaws)) {
+            return Some("the jaws are where a grasp failed before".to_string());
+        }
+        let carried = grasp
+            .objects
+            .iter()
+            .filter(|id| self.targets.contains(id))
+            .count();
+        (carried < self.min_objects).then(|| {
+            format!(
+                "carries {carried} of the targets, fewer than the {} asked for",
+                self.min_objects
+            )
+        })
+    }
+}
+
+/// A way to choose a grasp among some target objects. A policy asks its grasp planners through
+/// [`GraspPlanner::plan_request`] only, so a planner of one's own plugs into any policy
+/// ([`crate::policy::PolicyBuilder::multi_object_planner`]).
 pub trait GraspPlanner {
     /// A short name for logs and tables (`single-object`, `multi-object`).
     fn name(&self) -> &'static str;
 
-    /// Chooses a grasp that carries at least one of `targets`; `None` (with the reason in the status)
-    /// when there is none.
+    /// Chooses a grasp that answers `request`; `None` (with the reason in the status) when there is
+    /// none. The expected-time price reads the planner's estimate of the probability that the grasp
+    /// carries every object it is planned for from the counter `probability` of the answer's stats
+    /// (absent: priced as the least sure band).
     ///
     /// # Errors
     /// Only for misuse, such as an id that is not in the scene.
-    fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>>;
+    fn plan_request(&self, request: &GraspRequest<'_>) -> Result<Outcome<Option<Grasp>>>;
 
-    /// As [`GraspPlanner::plan`], also weighing the suggested jaw poses (for instance the grasp a push
-    /// planner arranged the objects for). Planners that cannot use hints ignore them.
+    /// A grasp that carries at least one of `targets` on the table as it is.
     ///
     /// # Errors
-    /// As [`GraspPlanner::plan`].
+    /// As [`GraspPlanner::plan_request`].
+    fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
+        self.plan_request(&GraspRequest::new(scene, targets))
+    }
+
+    /// As [`GraspPlanner::plan`], also weighing the suggested jaw poses.
+    ///
+    /// # Errors
+    /// As [`GraspPlanner::plan_request`].
     fn plan_with_hints(
         &self,
         scene: &Scene,
         targets: &[ObjectId],
         hints: &[JawPose],
     ) -> Result<Outcome<Option<Grasp>>> {
-        let _ = hints;
-        self.plan(scene, targets)
+        self.plan_request(&GraspRequest::new(scene, targets).hints(hints))
     }
 }

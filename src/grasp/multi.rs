@@ -25,8 +25,8 @@
 //! **Ranking**: by the estimated probability that every predicted object is carried, then by the
 //! number of objects, then by clearance; a candidate below `min_probability` is not used. The search
 //! stops at the first candidate that held in every sample (nothing judged later can rank above it).
-//! [`MultiObject::plan_several`] ranks the grasps of two or more objects alone: the policies ask it,
-//! since they take one object by itself with the single-object planner anyway.
+//! Asked for two or more objects ([`GraspRequest::several`]), it ranks those grasps alone: the
+//! policies ask so, since they take one object by itself with the single-object planner anyway.
 //!
 //! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing.rs`.
 
@@ -39,7 +39,7 @@ use serde::{Deserialize, Serialize};
 
 use super::model::{Squeeze, row_in_scene, squeeze};
 use super::outcome::{GraspOutcome, ModelOutcome, Noise, failures_allowed};
-use super::{Grasp, GraspPlanner, JawPose};
+use super::{Grasp, GraspPlanner, GraspRequest, JawPose};
 use crate::error::{Error, Result};
 use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
 use crate::outcome::{Outcome, Stats, Status};
@@ -61,7 +61,7 @@ pub struct MultiObjectSettings {
     pub opening_fraction: f64,
     /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
     /// Default 8: with `min_probability` 0.75 a grasp may fail in at most two of them. With 4 (one
-    /// failure allowed) and the policies choosing pairs over single objects (`plan_several`),
+    /// failure allowed) and the policies choosing pairs over single objects (`GraspRequest::several`),
     /// push-mog's two-object grasps held in 65 of 84 noisy replays (77 %); with 8, 61 of 71 (86 %),
     /// at the same simulated objects per trip (20 scenes).
     pub samples: usize,
@@ -365,59 +365,27 @@ impl GraspPlanner for MultiObject {
         "multi-object"
     }
 
-    fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
-        self.plan_with_hints(scene, targets, &[])
-    }
-
-    fn plan_with_hints(
-        &self,
-        scene: &Scene,
-        targets: &[ObjectId],
-        hints: &[JawPose],
-    ) -> Result<Outcome<Option<Grasp>>> {
-        self.plan_after_pushes(scene, targets, hints, &[], &[])
+    /// Candidates screened, judged and ranked, keeping only grasps predicted to carry at least
+    /// `request.min_objects`. Objects in `request.pushed` stand where the pushes are meant to leave
+    /// them, so the plates keep further from them and the samples move them by the push error too.
+    /// With `min_objects` 2 (what a policy asks when it would otherwise push nothing or take one
+    /// object by itself), a pair held in three samples of four is chosen where the search from 1
+    /// would prefer one object held in all four.
+    fn plan_request(&self, request: &GraspRequest<'_>) -> Result<Outcome<Option<Grasp>>> {
+        self.search(
+            request.scene,
+            request.targets,
+            request.hints,
+            request.pushed,
+            request.avoid,
+            request.min_objects,
+        )
     }
 }
 
 impl MultiObject {
-    /// As [`GraspPlanner::plan_with_hints`] on a table predicted after pushes: the objects `pushed`
-    /// stand where the pushes are meant to leave them, so the plates keep further from them and the
-    /// samples move them by the push error too. Jaws in the same place as any of `avoid` (grasps
-    /// that failed before) are not proposed.
-    ///
-    /// # Errors
-    /// An id that is not in the scene.
-    pub fn plan_after_pushes(
-        &self,
-        scene: &Scene,
-        targets: &[ObjectId],
-        hints: &[JawPose],
-        pushed: &[ObjectId],
-        avoid: &[JawPose],
-    ) -> Result<Outcome<Option<Grasp>>> {
-        self.search(scene, targets, hints, pushed, avoid, 1)
-    }
-
-    /// As [`MultiObject::plan_after_pushes`], among grasps predicted to carry two or more objects
-    /// only: what a policy asks when it would otherwise push nothing or take one object by itself.
-    /// Ranked as the others, so a pair held in three samples of four is chosen here where
-    /// [`MultiObject::plan_after_pushes`] would prefer one object held in all four.
-    ///
-    /// # Errors
-    /// An id that is not in the scene.
-    pub fn plan_several(
-        &self,
-        scene: &Scene,
-        targets: &[ObjectId],
-        hints: &[JawPose],
-        pushed: &[ObjectId],
-        avoid: &[JawPose],
-    ) -> Result<Outcome<Option<Grasp>>> {
-        self.search(scene, targets, hints, pushed, avoid, 2)
-    }
-
-    /// The search behind both: candidates, screening, judging and ranking, keeping only grasps
-    /// predicted to carry at least `min_objects`.
+    /// The search behind [`GraspPlanner::plan_request`]: candidates, screening, judging and
+    /// ranking, keeping only grasps predicted to carry at least `min_objects`.
     fn search(
         &self,
         scene: &Scene,

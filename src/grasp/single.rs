@@ -12,12 +12,12 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::model::{Squeeze, plate_clearance, row_in_scene, squeeze};
-use super::{Grasp, GraspPlanner, JawPose};
+use super::{Grasp, GraspPlanner, GraspRequest, JawPose};
 use crate::error::Result;
 use crate::geometry::edge_grasps;
 use crate::outcome::{Outcome, Stats, Status};
 use crate::problem::Problem;
-use crate::scene::{ObjectId, Scene};
+use crate::scene::Scene;
 
 /// Settings of [`SingleObject`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -169,23 +169,20 @@ impl GraspPlanner for SingleObject {
         "single-object"
     }
 
-    fn plan(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Outcome<Option<Grasp>>> {
-        self.plan_avoiding(scene, targets, &[])
-    }
-}
-
-impl SingleObject {
-    /// As [`GraspPlanner::plan`], never proposing jaws in the same place as any of `avoid` (grasps
-    /// that failed before).
-    ///
-    /// # Errors
-    /// An id that is not in the scene.
-    pub fn plan_avoiding(
-        &self,
-        scene: &Scene,
-        targets: &[ObjectId],
-        avoid: &[JawPose],
-    ) -> Result<Outcome<Option<Grasp>>> {
+    /// The first target, in the order given, that has a stable grasp of its own, its jaws clear of
+    /// neighbours and never in the same place as `request.avoid`. Hints and pushed objects are not
+    /// used; a request for two or more objects has no answer here.
+    fn plan_request(&self, request: &GraspRequest<'_>) -> Result<Outcome<Option<Grasp>>> {
+        if request.min_objects > 1 {
+            return Ok(Outcome {
+                value: None,
+                status: Status::Failed {
+                    reason: "a single-object planner carries one object".to_string(),
+                },
+                stats: Stats::default(),
+            });
+        }
+        let (scene, targets, avoid) = (request.scene, request.targets, request.avoid);
         let started = Instant::now();
         let indices = scene.indices_of(targets)?;
         let mut evaluated = 0;

@@ -29,7 +29,7 @@ use super::{Policy, PolicyPusher, TripPlan};
 use super::{grasp_path, push_paths};
 use crate::cluster::Clustering;
 use crate::error::Result;
-use crate::grasp::Grasp;
+use crate::grasp::{Grasp, GraspRequest};
 use crate::plan::AheadRow;
 use crate::push::{Push, SkippedPush, predict};
 use crate::scene::{ObjectId, Scene};
@@ -253,7 +253,11 @@ impl Policy {
         for row in rows {
             let grasp = self
                 .multi
-                .plan_several(predicted, row, &[], &[], &context.failed)?
+                .plan_request(
+                    &GraspRequest::new(predicted, row)
+                        .avoiding(&context.failed)
+                        .several(),
+                )?
                 .value;
             if !grasp.is_some_and(|g| g.objects.len() >= row.len() && context.together(&g)) {
                 return Ok(false);
@@ -286,7 +290,9 @@ impl Policy {
         let mut unformed = Vec::new();
         while !waiting.is_empty() {
             let row = waiting.remove(0);
-            let outcome = self.multi.plan_several(observed, &row, &[], &[], &avoid)?;
+            let outcome = self
+                .multi
+                .plan_request(&GraspRequest::new(observed, &row).avoiding(&avoid).several())?;
             if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
                 let cluster = clustering
                     .clusters
@@ -317,12 +323,20 @@ impl Policy {
         let members = &clustering.clusters[chosen];
         let together = self
             .multi
-            .plan_several(observed, members, &[], &[], &avoid)?
+            .plan_request(
+                &GraspRequest::new(observed, members)
+                    .avoiding(&avoid)
+                    .several(),
+            )?
             .value
             .filter(|g| context.together(g));
         let grasp = match together {
             Some(grasp) => Some(grasp),
-            None => self.single.plan_avoiding(observed, members, &avoid)?.value,
+            None => {
+                self.single
+                    .plan_request(&GraspRequest::new(observed, members).avoiding(&avoid))?
+                    .value
+            }
         };
         Ok((grasp.map(|grasp| (Some(chosen), grasp)), unformed))
     }
@@ -344,11 +358,16 @@ impl Policy {
         };
         let again = if grasp.objects.len() >= 2 {
             self.multi
-                .plan_several(predicted, &grasp.objects, &[grasp.jaws], &[], avoid)?
+                .plan_request(
+                    &GraspRequest::new(predicted, &grasp.objects)
+                        .hints(&[grasp.jaws])
+                        .avoiding(avoid)
+                        .several(),
+                )?
                 .value
         } else {
             self.single
-                .plan_avoiding(predicted, &grasp.objects, avoid)?
+                .plan_request(&GraspRequest::new(predicted, &grasp.objects).avoiding(avoid))?
                 .value
         };
         Ok(again.filter(same))

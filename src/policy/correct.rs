@@ -4,7 +4,7 @@
 
 use super::{Policy, TripContext, TripPlan};
 use crate::error::Result;
-use crate::grasp::Grasp;
+use crate::grasp::{Grasp, GraspRequest};
 use crate::push::{Push, SkippedPush};
 use crate::scene::{ObjectId, Scene};
 
@@ -58,9 +58,12 @@ impl Policy {
             };
         let mut skipped = Vec::new();
         if members.len() >= 2 {
-            let outcome =
-                self.multi
-                    .plan_several(observed, &members, &[trip.grasp.jaws], &[], avoid)?;
+            let outcome = self.multi.plan_request(
+                &GraspRequest::new(observed, &members)
+                    .hints(&[trip.grasp.jaws])
+                    .avoiding(avoid)
+                    .several(),
+            )?;
             let as_it_lies = outcome.value.filter(|g| context.together(g));
             let taken = as_it_lies.as_ref().map_or(0, |g| g.objects.len());
             if taken == members.len() {
@@ -87,13 +90,17 @@ impl Policy {
                 return Ok(Some(next(Vec::new(), skipped, grasp, None)));
             }
         }
-        if let Some(grasp) = self.single.plan_avoiding(observed, &members, avoid)?.value {
+        if let Some(grasp) = self
+            .single
+            .plan_request(&GraspRequest::new(observed, &members).avoiding(avoid))?
+            .value
+        {
             return Ok(Some(next(Vec::new(), skipped, grasp, None)));
         }
         let everything: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
         Ok(self
             .single
-            .plan_avoiding(observed, &everything, avoid)?
+            .plan_request(&GraspRequest::new(observed, &everything).avoiding(avoid))?
             .value
             .map(|grasp| next(Vec::new(), skipped, grasp, None)))
     }

@@ -37,7 +37,9 @@ use serde::{Deserialize, Serialize};
 use crate::cluster::{Clusterer, Hierarchical, RowTest};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
-use crate::grasp::{Grasp, MultiObject, SingleObject};
+#[cfg(doc)]
+use crate::grasp::GraspRequest;
+use crate::grasp::{Grasp, GraspPlanner, MultiObject, SingleObject};
 use crate::plan::Plan;
 use crate::problem::Problem;
 use crate::push::{PushPlanner, Socp, TowardCentral};
@@ -182,6 +184,10 @@ impl<T: Clusterer + Send + Sync + std::fmt::Debug> PolicyClusterer for T {}
 pub trait PolicyPusher: PushPlanner + Send + Sync + std::fmt::Debug {}
 impl<T: PushPlanner + Send + Sync + std::fmt::Debug> PolicyPusher for T {}
 
+/// A grasp planner a policy can hold.
+pub trait PolicyGraspPlanner: GraspPlanner + Send + Sync + std::fmt::Debug {}
+impl<T: GraspPlanner + Send + Sync + std::fmt::Debug> PolicyGraspPlanner for T {}
+
 /// A policy ready to run: a clusterer, a push planner and the grasp planners, each a trait object, so
 /// a researcher can put their own in with [`PolicyBuilder`].
 #[derive(Clone, Debug)]
@@ -191,8 +197,13 @@ pub struct Policy {
     /// `None`: single-object grasps of objects picked at random, no clustering.
     clusterer: Option<Arc<dyn PolicyClusterer>>,
     pusher: Option<Arc<dyn PolicyPusher>>,
-    single: SingleObject,
-    multi: MultiObject,
+    /// Grasps of one object.
+    single: Arc<dyn PolicyGraspPlanner>,
+    /// Grasps of several objects.
+    multi: Arc<dyn PolicyGraspPlanner>,
+    /// The built-in multi-object planner, whatever `multi` is: it judges the SOCP's rows and lists
+    /// the candidates it refuses ([`Policy::refused_candidates`]).
+    judge: MultiObject,
     /// What every stage shares, built once from `settings`.
     problem: Arc<Problem>,
 }
@@ -215,6 +226,8 @@ pub struct PolicyBuilder {
     settings: PolicySettings,
     clusterer: Option<Option<Arc<dyn PolicyClusterer>>>,
     pusher: Option<Option<Arc<dyn PolicyPusher>>>,
+    single: Option<Arc<dyn PolicyGraspPlanner>>,
+    multi: Option<Arc<dyn PolicyGraspPlanner>>,
     parts: (Option<Option<ClustererKind>>, Option<PusherKind>),
 }
 
@@ -234,6 +247,21 @@ impl PolicyBuilder {
     /// Push with this push planner.
     pub fn pusher(mut self, pusher: impl PolicyPusher + 'static) -> Self {
         self.pusher = Some(Some(Arc::new(pusher)));
+        self
+    }
+
+    /// Grasp one object at a time with this planner (its requests ask for one object).
+    pub fn single_object_planner(mut self, planner: impl PolicyGraspPlanner + 'static) -> Self {
+        self.single = Some(Arc::new(planner));
+        self
+    }
+
+    /// Grasp several objects at once with this planner: every multi-object grasp the policy makes,
+    /// after pushes or as the objects lie, is its answer to a [`GraspRequest`] for two or more
+    /// objects. The SOCP still judges its rows with the built-in planner of the settings
+    /// (`socp.robust_rows`). `examples/custom_grasp_planner.rs` plugs one into push-mog-opt.
+    pub fn multi_object_planner(mut self, planner: impl PolicyGraspPlanner + 'static) -> Self {
+        self.multi = Some(Arc::new(planner));
         self
     }
 
@@ -268,7 +296,7 @@ impl PolicyBuilder {
         } else {
             settings.row_test()
         };
-        let multi = multi_object(&settings, &problem)?;
+        let judge = multi_object(&settings, &problem)?;
         let clusterer = match self.clusterer {
             Some(chosen) => chosen,
             None => match self.parts.0.unwrap_or(self.kind.clusterer()) {
@@ -291,7 +319,7 @@ impl PolicyBuilder {
                     problem.clone(),
                 )?) as Arc<dyn PolicyPusher>),
                 PusherKind::Socp => Some(Arc::new(
-                    Socp::new(settings.socp.clone(), problem.clone())?.with_judge(multi.clone()),
+                    Socp::new(settings.socp.clone(), problem.clone())?.with_judge(judge.clone()),
                 ) as _),
             },
         };
@@ -299,8 +327,12 @@ impl PolicyBuilder {
             kind: self.kind,
             clusterer,
             pusher,
-            single: SingleObject::new(settings.single.clone(), problem.clone())?,
-            multi,
+            single: match self.single {
+                Some(chosen) => chosen,
+                None => Arc::new(SingleObject::new(settings.single.clone(), problem.clone())?),
+            },
+            multi: self.multi.unwrap_or_else(|| Arc::new(judge.clone())),
+            judge,
             problem,
             settings,
         })
@@ -365,6 +397,8 @@ impl Policy {
             settings: PolicySettings::default(),
             clusterer: None,
             pusher: None,
+            single: None,
+            multi: None,
             parts: (None, None),
         }
     }
@@ -395,7 +429,7 @@ impl Policy {
     /// # Errors
     /// An id that is not in the scene.
     pub fn refused_candidates(&self, scene: &Scene, targets: &[ObjectId]) -> Result<Vec<Grasp>> {
-        let all = self.multi.refused(scene, targets)?;
+        let all = self.judge.refused(scene, targets)?;
         // Every k-th, so a few replays sample the whole list.
         let stride = (all.len() / 8).max(1);
         Ok(all.into_iter().step_by(stride).collect())

@@ -6,7 +6,7 @@ use nalgebra::Vector2;
 use super::Policy;
 use crate::error::Result;
 use crate::geometry::distance;
-use crate::grasp::{Grasp, JawPose};
+use crate::grasp::{Grasp, GraspRequest, JawPose};
 use crate::push::{Push, predict, separating_push};
 use crate::scene::{ObjectId, Scene};
 
@@ -78,7 +78,10 @@ impl Policy {
                         continue;
                     };
                     let predicted = predict(observed, std::slice::from_ref(&push))?;
-                    if let Some(grasp) = self.single.plan_avoiding(&predicted, &freed, avoid)?.value
+                    if let Some(grasp) = self
+                        .single
+                        .plan_request(&GraspRequest::new(&predicted, &freed).avoiding(avoid))?
+                        .value
                     {
                         return Ok(Some((push, grasp)));
                     }

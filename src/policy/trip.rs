@@ -23,7 +23,7 @@ use super::{Policy, PolicyClusterer, PolicyPusher};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::geometry::distance;
-use crate::grasp::{Grasp, GraspPlanner, JawPose};
+use crate::grasp::{Grasp, GraspRequest, JawPose};
 use crate::outcome::{Outcome, Stats, Status};
 use crate::plan::AheadRow;
 use crate::push::fork::finger_footprints;
@@ -141,7 +141,9 @@ impl Policy {
         let mut reason = String::new();
         for &index in order {
             let target = observed.objects()[index].id;
-            let outcome = self.single.plan_avoiding(observed, &[target], avoid)?;
+            let outcome = self
+                .single
+                .plan_request(&GraspRequest::new(observed, &[target]).avoiding(avoid))?;
             match outcome.value {
                 Some(grasp) => {
                     return Ok(Ok(TripPlan {
@@ -234,13 +236,17 @@ impl Policy {
         }
         // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
         // opened just wider than the object, flush on an edge, not fully around it).
-        let outcome = self
-            .multi
-            .plan_several(observed, &members, &[], &[], avoid)?;
+        let outcome = self.multi.plan_request(
+            &GraspRequest::new(observed, &members)
+                .avoiding(avoid)
+                .several(),
+        )?;
         if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
             return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
         }
-        let single = self.single.plan_avoiding(observed, &members, avoid)?;
+        let single = self
+            .single
+            .plan_request(&GraspRequest::new(observed, &members).avoiding(avoid))?;
         if let Some(grasp) = single.value {
             return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
         }
@@ -294,9 +300,13 @@ impl Policy {
         let predicted = predict(observed, &plan.pushes)?;
         let hints: Vec<JawPose> = plan.intended_grasp.into_iter().collect();
         let pushed: Vec<ObjectId> = plan.pushes.iter().map(|p| p.object).collect();
-        let outcome = self
-            .multi
-            .plan_several(&predicted, members, &hints, &pushed, avoid)?;
+        let outcome = self.multi.plan_request(
+            &GraspRequest::new(&predicted, members)
+                .hints(&hints)
+                .pushed(&pushed)
+                .avoiding(avoid)
+                .several(),
+        )?;
         let reason = match outcome.value.filter(|g| context.together(g)) {
             Some(grasp) => {
                 let left: Vec<ObjectId> = pushed
