@@ -150,7 +150,7 @@ impl<'a> GraspRequest<'a> {
 
 /// A way to choose a grasp among some target objects. A policy asks its grasp planners through
 /// [`GraspPlanner::plan_request`] only, so a planner of one's own plugs into any policy
-/// ([`crate::policy::PolicyBuilder::multi_object_planner`]).
+/// (`PolicyBuilder::multi_object_planner` in `policy`).
 pub trait GraspPlanner {
     /// A short name for logs and tables (`single-object`, `multi-object`).
     fn name(&self) -> &'static str;

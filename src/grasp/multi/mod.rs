@@ -34,149 +34,21 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::{Point2, Vector2};
-use serde::{Deserialize, Serialize};
+use nalgebra::Vector2;
 
 use super::model::{Squeeze, row_in_scene, squeeze};
-use super::outcome::{GraspOutcome, ModelOutcome, Noise, failures_allowed};
+use super::outcome::{GraspOutcome, ModelOutcome, failures_allowed};
 use super::{Grasp, GraspPlanner, GraspRequest, JawPose};
-use crate::error::{Error, Result};
-use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
+use crate::error::Result;
+use crate::geometry::point_bounds;
 use crate::outcome::{Outcome, Stats, Status};
 use crate::problem::Problem;
 use crate::scene::{ObjectId, Scene};
 
-/// Settings of [`MultiObject`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(default, deny_unknown_fields)]
-pub struct MultiObjectSettings {
-    /// Grid of jaw centres over the targets' bounding box, `[along x, along y]`. Default `[7, 10]`.
-    pub grid: [usize; 2],
-    /// Evenly spaced closing axes over `[0, π)`. Default 24 (7.5° apart). With 12 axes and 8 tries
-    /// per set (the defaults before), simulated push-mog carried 0.021 ± 0.007 fewer objects per trip
-    /// on paper-100 and 0.026 ± 0.008 fewer on 60 other scenes, push-mog-opt 0.016 ± 0.008 fewer
-    /// (`formulations/grasping.md`).
-    pub angles: usize,
-    /// Jaw opening as a fraction of the stroke. Default 1.0 (fully open, as in the paper).
-    pub opening_fraction: f64,
-    /// Samples per judged candidate, the observed table first; 1 judges the observed table alone.
-    /// Default 8: with `min_probability` 0.75 a grasp may fail in at most two of them. With 4 (one
-    /// failure allowed) and the policies choosing pairs over single objects (`GraspRequest::several`),
-    /// push-mog's two-object grasps held in 65 of 84 noisy replays (77 %); with 8, 61 of 71 (86 %),
-    /// at the same simulated objects per trip (20 scenes).
-    pub samples: usize,
-    /// The noise of the other samples. Defaults: the simulator's.
-    pub noise: Noise,
-    /// Least gap between an open plate and any object, in standard deviations of where the plate
-    /// ends up relative to that object (`Noise::position_sigma`). Default 1.5: 3.4 mm from an object
-    /// as observed, 4.5 mm from a pushed one.
-    pub clearance_sigmas: f64,
-    /// Least estimated probability of a grasp to be used. Default 0.75.
-    pub min_probability: f64,
-    /// Candidates judged per set of caught objects. Default 32.
-    pub tries_per_set: usize,
-    /// Candidates judged per call. Default 40.
-    pub max_judged: usize,
-    /// Least distance, metres, between the workspace's edge and every object a multi-object grasp
-    /// holds, on the table the grasp is planned for. A multi-object grasp that fails squeezes its
-    /// objects along the plates or shoves them a few millimetres, and an object that close to the
-    /// edge then leaves the workspace: such objects are taken one at a time. Default 0 (no margin,
-    /// as the Push-MOG paper). 0.02 took three of four losses outside the workspace away from
-    /// push-mog-time on 150 training scenes, at 0.023 of its ratio to sog's picks per hour
-    /// (`formulations/picks-per-hour.md`, "Objects near the edge").
-    pub edge_margin: f64,
-}
+mod candidates;
+mod settings;
 
-impl Default for MultiObjectSettings {
-    fn default() -> Self {
-        Self {
-            grid: [7, 10],
-            angles: 24,
-            opening_fraction: 1.0,
-            samples: 8,
-            noise: Noise::default(),
-            clearance_sigmas: 1.5,
-            min_probability: 0.75,
-            tries_per_set: 32,
-            max_judged: 40,
-            edge_margin: 0.0,
-        }
-    }
-}
-
-impl MultiObjectSettings {
-    /// Checks every field.
-    ///
-    /// # Errors
-    /// [`Error::InvalidField`] naming the field.
-    pub fn validate(&self) -> Result<()> {
-        for (field, value, high) in [
-            ("grid[0]", self.grid[0], 100),
-            ("grid[1]", self.grid[1], 100),
-            ("angles", self.angles, 360),
-        ] {
-            crate::error::count_in_range(
-                "multi",
-                field,
-                value,
-                (1, high),
-                "every grid point × angle is a candidate the model judges",
-            )?;
-        }
-        if !(self.opening_fraction > 0.0 && self.opening_fraction <= 1.0) {
-            return Err(Error::field(
-                "multi",
-                "opening_fraction",
-                format!("must be in (0, 1], got {}", self.opening_fraction),
-            ));
-        }
-        if !(1..=64).contains(&self.samples) {
-            return Err(Error::field(
-                "multi",
-                "samples",
-                format!("must be between 1 and 64, got {}", self.samples),
-            ));
-        }
-        if !(self.clearance_sigmas.is_finite() && (0.0..=5.0).contains(&self.clearance_sigmas)) {
-            return Err(Error::field(
-                "multi",
-                "clearance_sigmas",
-                format!("must be between 0 and 5, got {}", self.clearance_sigmas),
-            ));
-        }
-        if !(self.edge_margin.is_finite() && (0.0..=0.2).contains(&self.edge_margin)) {
-            return Err(Error::field(
-                "multi",
-                "edge_margin",
-                format!(
-                    "must be between 0 and 0.2 m (a margin wider than a third of a workspace \
-                     leaves few objects to grasp together), got {}",
-                    self.edge_margin
-                ),
-            ));
-        }
-        if !(self.min_probability.is_finite() && (0.0..=1.0).contains(&self.min_probability)) {
-            return Err(Error::field(
-                "multi",
-                "min_probability",
-                format!("must be in [0, 1], got {}", self.min_probability),
-            ));
-        }
-        for (field, value) in [
-            ("tries_per_set", self.tries_per_set),
-            ("max_judged", self.max_judged),
-        ] {
-            crate::error::count_in_range(
-                "multi",
-                field,
-                value,
-                (1, 1000),
-                "judged candidates: at least one, and at most 1000 per call (each is a judgement)",
-            )?;
-        }
-        self.noise.validate()
-    }
-}
+pub use settings::MultiObjectSettings;
 
 /// Multi-object grasps ranked by an outcome model.
 #[derive(Clone, Debug)]
@@ -255,109 +127,6 @@ impl MultiObject {
     pub fn settings(&self) -> &MultiObjectSettings {
         &self.settings
     }
-
-    fn centres(&self, scene: &Scene, targets: &[usize]) -> Vec<Point2<f64>> {
-        let outline: Vec<Point2<f64>> = targets
-            .iter()
-            .flat_map(|&i| scene.world_polygon(i).vertices().to_vec())
-            .collect();
-        let hull = ConvexPolygon::new(convex_hull(&outline)).ok();
-        let (lo, hi) = point_bounds(&outline);
-        let [nx, ny] = self.settings.grid;
-        let mut centres = Vec::new();
-        for ix in 0..nx {
-            for iy in 0..ny {
-                let p = Point2::new(
-                    lo.x + (hi.x - lo.x) * (ix as f64 + 0.5) / nx as f64,
-                    lo.y + (hi.y - lo.y) * (iy as f64 + 0.5) / ny as f64,
-                );
-                if hull.as_ref().is_none_or(|h| h.contains_point(&p, 0.0)) {
-                    centres.push(p);
-                }
-            }
-        }
-        for (k, &a) in targets.iter().enumerate() {
-            centres.push(scene.centroid(a));
-            for &b in &targets[k + 1..] {
-                centres.push(nalgebra::center(&scene.centroid(a), &scene.centroid(b)));
-            }
-        }
-        centres
-    }
-
-    /// Every jaw pose to evaluate: grid centres × angles, the centre aligned with the targets for
-    /// every angle, and the caller's hints.
-    fn candidates(&self, scene: &Scene, targets: &[usize], hints: &[JawPose]) -> Vec<JawPose> {
-        let opening = self.settings.opening_fraction * scene.gripper().stroke;
-        let angles = self.angles(scene, targets);
-        let mut poses: Vec<JawPose> = hints.to_vec();
-        for &angle in &angles {
-            poses.push(JawPose {
-                center: aligned_centre(scene, targets, angle),
-                angle,
-                opening,
-            });
-        }
-        for center in self.centres(scene, targets) {
-            for &angle in &angles {
-                poses.push(JawPose {
-                    center,
-                    angle,
-                    opening,
-                });
-            }
-        }
-        poses
-    }
-
-    fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {
-        let n = self.settings.angles;
-        let mut angles: Vec<f64> = (0..n)
-            .map(|k| std::f64::consts::PI * k as f64 / n as f64)
-            .collect();
-        let half_turn = |v: Vector2<f64>| v.y.atan2(v.x).rem_euclid(std::f64::consts::PI);
-        for (k, &a) in targets.iter().enumerate() {
-            let object = &scene.objects()[a];
-            angles.push(half_turn(
-                object.pose.isometry() * scene.grasp_diameter(a).axis,
-            ));
-            for &b in &targets[k + 1..] {
-                let joining = scene.centroid(b) - scene.centroid(a);
-                if joining.norm() > 0.0 {
-                    angles.push(half_turn(joining));
-                }
-            }
-        }
-        angles
-    }
-}
-
-/// The jaw centre that fits the targets best for closing along `angle`: the middle of their extent
-/// along the axis, and the middle of the band across it that all of them cover (or the mean of their
-/// middles when there is none).
-fn aligned_centre(scene: &Scene, targets: &[usize], angle: f64) -> Point2<f64> {
-    let axis = Vector2::new(angle.cos(), angle.sin());
-    let across = Vector2::new(-axis.y, axis.x);
-    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut band_low, mut band_high) = (f64::NEG_INFINITY, f64::INFINITY);
-    let mut middles = 0.0;
-    for &i in targets {
-        let outline = scene.world_polygon(i);
-        let (a, b) = outline.projection(&axis);
-        low = low.min(a);
-        high = high.max(b);
-        let (c, d) = outline.projection(&across);
-        band_low = band_low.max(c);
-        band_high = band_high.min(d);
-        middles += (c + d) / 2.0;
-    }
-    let along = (low + high) / 2.0;
-    let side = if band_low <= band_high {
-        (band_low + band_high) / 2.0
-    } else {
-        middles / targets.len() as f64
-    };
-    Point2::from(axis * along + across * side)
 }
 
 impl GraspPlanner for MultiObject {
@@ -372,154 +141,32 @@ impl GraspPlanner for MultiObject {
     /// object by itself), a pair held in three samples of four is chosen where the search from 1
     /// would prefer one object held in all four.
     fn plan_request(&self, request: &GraspRequest<'_>) -> Result<Outcome<Option<Grasp>>> {
-        self.search(
-            request.scene,
-            request.targets,
-            request.hints,
-            request.pushed,
-            request.avoid,
-            request.min_objects,
-        )
+        self.search(request)
     }
 }
 
 impl MultiObject {
     /// The search behind [`GraspPlanner::plan_request`]: candidates, screening, judging and
     /// ranking, keeping only grasps predicted to carry at least `min_objects`.
-    fn search(
-        &self,
-        scene: &Scene,
-        targets: &[ObjectId],
-        hints: &[JawPose],
-        pushed: &[ObjectId],
-        avoid: &[JawPose],
-        min_objects: usize,
-    ) -> Result<Outcome<Option<Grasp>>> {
+    fn search(&self, request: &GraspRequest<'_>) -> Result<Outcome<Option<Grasp>>> {
         let started = Instant::now();
-        let indices = scene.indices_of(targets)?;
-        let pushed = scene.indices_of(pushed)?;
-        let settings = &self.settings;
+        let scene = request.scene;
+        let indices = scene.indices_of(request.targets)?;
+        let pushed = scene.indices_of(request.pushed)?;
         let mut refusals: BTreeMap<&'static str, usize> = BTreeMap::new();
-        let mut screened: Vec<Screened> = Vec::new();
         let candidates = if indices.is_empty() {
             Vec::new()
         } else {
-            self.candidates(scene, &indices, hints)
+            self.candidates(scene, &indices, request.hints)
         };
-        for jaws in &candidates {
-            if avoid.iter().any(|a| a.same_place(jaws)) {
-                *refusals.entry("failed before").or_default() += 1;
-                continue;
-            }
-            let caught = match row_in_scene(scene, jaws, self.problem.grasp_model()) {
-                Ok(caught) => caught,
-                Err(refusal) => {
-                    *refusals.entry(refusal_name(&refusal)).or_default() += 1;
-                    continue;
-                }
-            };
-            if !caught.iter().any(|o| indices.contains(o)) {
-                *refusals.entry("holds no target").or_default() += 1;
-                continue;
-            }
-            if caught.len() < min_objects {
-                *refusals.entry("too few objects").or_default() += 1;
-                continue;
-            }
-            if caught.len() >= 2 && caught.iter().any(|&i| self.near_edge(scene, i)) {
-                *refusals.entry("near the workspace edge").or_default() += 1;
-                continue;
-            }
-            let mut sorted = caught.clone();
-            sorted.sort_unstable();
-            let (clearance, enough) = self.clearance(scene, jaws, &pushed);
-            if !enough {
-                *refusals.entry("plates too close").or_default() += 1;
-                continue;
-            }
-            screened.push(Screened {
-                hinted: hints.iter().any(|h| h.same_place(jaws)),
-                jaws: *jaws,
-                offset: centre_line_offset(scene, jaws, &caught),
-                caught: sorted,
-                clearance,
-            });
-        }
-        // Most objects first, then the caller's suggestions (the jaws a row was pushed for), then
-        // nearest the plates' centre line, then most clearance.
-        screened.sort_by(|a, b| {
-            b.caught
-                .len()
-                .cmp(&a.caught.len())
-                .then(b.hinted.cmp(&a.hinted))
-                .then(a.offset.total_cmp(&b.offset))
-                .then(b.clearance.total_cmp(&a.clearance))
-        });
-        let mut tried: BTreeMap<Vec<usize>, usize> = BTreeMap::new();
-        let mut best: Option<(f64, Grasp)> = None;
-        let mut judged = 0usize;
-        for candidate in &screened {
-            if judged >= settings.max_judged {
-                break;
-            }
-            let count = candidate.caught.len();
-            // Nothing judged from here on can rank above a candidate that held in every sample with
-            // as many objects.
-            if best
-                .as_ref()
-                .is_some_and(|(p, g)| *p >= 1.0 && g.objects.len() >= count)
-            {
-                break;
-            }
-            let tries = tried.entry(candidate.caught.clone()).or_default();
-            if *tries >= settings.tries_per_set {
-                continue;
-            }
-            *tries += 1;
-            judged += 1;
-            // A candidate must beat the best so far: fewer failures than it allowed.
-            let samples = settings.samples;
-            let floor = best.as_ref().map_or(settings.min_probability, |(p, _)| {
-                settings.min_probability.max(*p)
-            });
-            let max_failures = failures_allowed(floor, samples);
-            let judgement = self
-                .outcome
-                .judge(scene, &candidate.jaws, &pushed, max_failures);
-            let Squeeze::Held { objects, width } = &judgement.nominal else {
-                *refusals
-                    .entry(refusal_name(&judgement.nominal))
-                    .or_default() += 1;
-                continue;
-            };
-            if objects.len() < min_objects {
-                *refusals.entry("too few objects").or_default() += 1;
-                continue;
-            }
-            let probability = judgement.probability();
-            if probability < settings.min_probability {
-                *refusals.entry("not robust to noise").or_default() += 1;
-                continue;
-            }
-            let better = best.as_ref().is_none_or(|(p, g)| {
-                probability > *p + 1e-12
-                    || (probability >= *p - 1e-12
-                        && (objects.len() > g.objects.len()
-                            || (objects.len() == g.objects.len()
-                                && candidate.clearance > g.margin + 1e-12)))
-            });
-            if better {
-                best = Some((
-                    probability,
-                    Grasp {
-                        jaws: candidate.jaws,
-                        objects: objects.iter().map(|&i| scene.objects()[i].id).collect(),
-                        width: *width,
-                        margin: candidate.clearance,
-                    },
-                ));
-            }
-        }
+        let screened = self.screen(request, &candidates, &indices, &pushed, &mut refusals);
+        let (best, judged) = self.best_judged(
+            scene,
+            &screened,
+            &pushed,
+            request.min_objects,
+            &mut refusals,
+        );
         let status = match &best {
             Some(_) => Status::Heuristic,
             None => Status::Failed {
@@ -557,6 +204,151 @@ impl MultiObject {
                 ..Stats::default()
             },
         })
+    }
+
+    /// The candidates worth judging, best first: caught in a row by the grasp model, holding a
+    /// target and at least `min_objects`, not where a grasp failed before, no object of several
+    /// near the edge, the plates clear of the rest. Ranked by most objects, then the caller's
+    /// suggestions (the jaws a row was pushed for), then nearest the plates' centre line, then most
+    /// clearance.
+    fn screen(
+        &self,
+        request: &GraspRequest<'_>,
+        candidates: &[JawPose],
+        indices: &[usize],
+        pushed: &[usize],
+        refusals: &mut BTreeMap<&'static str, usize>,
+    ) -> Vec<Screened> {
+        let scene = request.scene;
+        let mut screened: Vec<Screened> = Vec::new();
+        for jaws in candidates {
+            if request.avoid.iter().any(|a| a.same_place(jaws)) {
+                *refusals.entry("failed before").or_default() += 1;
+                continue;
+            }
+            let caught = match row_in_scene(scene, jaws, self.problem.grasp_model()) {
+                Ok(caught) => caught,
+                Err(refusal) => {
+                    *refusals.entry(refusal_name(&refusal)).or_default() += 1;
+                    continue;
+                }
+            };
+            if !caught.iter().any(|o| indices.contains(o)) {
+                *refusals.entry("holds no target").or_default() += 1;
+                continue;
+            }
+            if caught.len() < request.min_objects {
+                *refusals.entry("too few objects").or_default() += 1;
+                continue;
+            }
+            if caught.len() >= 2 && caught.iter().any(|&i| self.near_edge(scene, i)) {
+                *refusals.entry("near the workspace edge").or_default() += 1;
+                continue;
+            }
+            let mut sorted = caught.clone();
+            sorted.sort_unstable();
+            let (clearance, enough) = self.clearance(scene, jaws, pushed);
+            if !enough {
+                *refusals.entry("plates too close").or_default() += 1;
+                continue;
+            }
+            screened.push(Screened {
+                hinted: request.hints.iter().any(|h| h.same_place(jaws)),
+                jaws: *jaws,
+                offset: centre_line_offset(scene, jaws, &caught),
+                caught: sorted,
+                clearance,
+            });
+        }
+        screened.sort_by(|a, b| {
+            b.caught
+                .len()
+                .cmp(&a.caught.len())
+                .then(b.hinted.cmp(&a.hinted))
+                .then(a.offset.total_cmp(&b.offset))
+                .then(b.clearance.total_cmp(&a.clearance))
+        });
+        screened
+    }
+
+    /// The best of the screened candidates by the outcome model (probability, then objects, then
+    /// clearance), with its probability, and how many were judged: at most `tries_per_set` per set
+    /// of caught objects and `max_judged` in all, stopping at the first that held in every sample.
+    fn best_judged(
+        &self,
+        scene: &Scene,
+        screened: &[Screened],
+        pushed: &[usize],
+        min_objects: usize,
+        refusals: &mut BTreeMap<&'static str, usize>,
+    ) -> (Option<(f64, Grasp)>, usize) {
+        let settings = &self.settings;
+        let mut tried: BTreeMap<Vec<usize>, usize> = BTreeMap::new();
+        let mut best: Option<(f64, Grasp)> = None;
+        let mut judged = 0usize;
+        for candidate in screened {
+            if judged >= settings.max_judged {
+                break;
+            }
+            let count = candidate.caught.len();
+            // Nothing judged from here on can rank above a candidate that held in every sample with
+            // as many objects.
+            if best
+                .as_ref()
+                .is_some_and(|(p, g)| *p >= 1.0 && g.objects.len() >= count)
+            {
+                break;
+            }
+            let tries = tried.entry(candidate.caught.clone()).or_default();
+            if *tries >= settings.tries_per_set {
+                continue;
+            }
+            *tries += 1;
+            judged += 1;
+            // A candidate must beat the best so far: fewer failures than it allowed.
+            let samples = settings.samples;
+            let floor = best.as_ref().map_or(settings.min_probability, |(p, _)| {
+                settings.min_probability.max(*p)
+            });
+            let max_failures = failures_allowed(floor, samples);
+            let judgement = self
+                .outcome
+                .judge(scene, &candidate.jaws, pushed, max_failures);
+            let Squeeze::Held { objects, width } = &judgement.nominal else {
+                *refusals
+                    .entry(refusal_name(&judgement.nominal))
+                    .or_default() += 1;
+                continue;
+            };
+            if objects.len() < min_objects {
+                *refusals.entry("too few objects").or_default() += 1;
+                continue;
+            }
+            let probability = judgement.probability();
+            if probability < settings.min_probability {
+                *refusals.entry("not robust to noise").or_default() += 1;
+                continue;
+            }
+            let better = best.as_ref().is_none_or(|(p, g)| {
+                probability > *p + 1e-12
+                    || (probability >= *p - 1e-12
+                        && (objects.len() > g.objects.len()
+                            || (objects.len() == g.objects.len()
+                                && candidate.clearance > g.margin + 1e-12)))
+            });
+            if better {
+                best = Some((
+                    probability,
+                    Grasp {
+                        jaws: candidate.jaws,
+                        objects: objects.iter().map(|&i| scene.objects()[i].id).collect(),
+                        width: *width,
+                        margin: candidate.clearance,
+                    },
+                ));
+            }
+        }
+        (best, judged)
     }
 }
 
