@@ -4,7 +4,7 @@
 //!   region between them.
 //! - [`GraspModel`]: what a closing does. The caught objects slide into a row (`model.rs`); then by
 //!   default the closing is simulated in the plane, objects sliding and turning on the table while the
-//!   coupled plates close (`closing.rs`), or judged by the first, analytic model (objects slide
+//!   coupled plates close (`closing/`), or judged by the first, analytic model (objects slide
 //!   without turning, Nguyen's condition object by object).
 //!   Optionally a pressed object must also rest with friction to spare (`equilibrium.rs`).
 //! - [`GraspOutcome`]: how a planner judges candidates: the model on the observed table, on noisy

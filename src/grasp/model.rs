@@ -238,7 +238,7 @@ pub(super) fn row_of(
     form_row(bodies, gripper, jaws, model.contact_tolerance).map(|row| row.caught)
 }
 
-/// The planar judgement: the closing simulated with turning objects (`closing.rs`); every caught
+/// The planar judgement: the closing simulated with turning objects (`closing/`); every caught
 /// object must end gripped, and the gripped row must lift.
 fn judge_planar(
     row: &Row,

@@ -1,6 +1,6 @@
 //! The grasp model's settings: which mechanics judge a closing and the physical constants it uses
 //! (friction, grip force, density). The model itself lives in `grasp` (`grasp/model.rs`,
-//! `grasp/closing.rs`, `formulations/grasping.md`); this is the part every stage must agree on.
+//! `grasp/closing/`, `formulations/grasping.md`); this is the part every stage must agree on.
 
 use serde::{Deserialize, Serialize};
 
@@ -15,7 +15,7 @@ pub enum Mechanics {
     /// Objects slide along the closing axis without turning; each is held by Nguyen's two-contact
     /// condition on its own (the model of the first pushmog releases, kept as a baseline).
     Analytic,
-    /// The closing simulated in the plane (`closing.rs`): objects slide and turn on the table while
+    /// The closing simulated in the plane (`closing/`): objects slide and turn on the table while
     /// the coupled plates close on them; every caught object must end squeezed in the chain between
     /// the plates, and that chain must lift.
     #[default]

@@ -2,7 +2,7 @@
 //! extruded prisms standing on a frictional table under gravity, so that objects per trip come from a
 //! physics engine that knows nothing of the planner's models.
 //!
-//! Each action is simulated on a short-lived *stage* (`world.rs`) holding the table, the gripper and
+//! Each action is simulated on a short-lived *stage* (`world/`) holding the table, the gripper and
 //! the objects within `reach` of the action's path; objects further away cannot be touched and keep
 //! their poses. Stages are built in a fixed order from the state, so a run is deterministic: the same
 //! scene, settings and seed give the same run, bit for bit, on one build.
@@ -22,13 +22,15 @@
 //!   interpenetrating objects).
 
 mod base;
+mod prism;
 mod rollout;
 mod settings;
 mod world;
 
 use rapier3d_f64::math::{Rotation, Vector};
 
-use self::world::{Prism, Stage, StageSettings};
+use self::prism::Prism;
+use self::world::{Stage, StageSettings};
 use super::{Executor, GraspResult, Landing};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;

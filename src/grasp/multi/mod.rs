@@ -16,7 +16,7 @@
 //! the caught objects must slide into one row between the plates, with at least one target.
 //!
 //! **Judging** (the outcome model, [`GraspOutcome`], on the most promising candidates only): by
-//! default the planar mechanics of `closing.rs` on the observed table and on `samples − 1` noisy
+//! default the planar mechanics of `closing/` on the observed table and on `samples − 1` noisy
 //! copies of it ([`Noise`]). Candidates are judged in order of how many objects they catch, then the
 //! caller's suggestions first (the jaws a row was pushed for), then of how close the caught centroids
 //! lie to the plates' centre line (the simulator holds rows near that line far more often), then of
@@ -28,7 +28,7 @@
 //! Asked for two or more objects ([`GraspRequest::several`]), it ranks those grasps alone: the
 //! policies ask so, since they take one object by itself with the single-object planner anyway.
 //!
-//! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing.rs`.
+//! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing/`.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -18,14 +18,16 @@
 //! **Landing.** While the gripper descends, a finger whose contact with an object has a normal within
 //! 60° of vertical has come down on top of it: the descent stops there (a real arm would be stopped or
 //! would crush the object), and the caller reports the action as failed.
+//!
+//! Here the stage is built and stepped; its motions are in `actions.rs`, the objects in `../prism.rs`.
 
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::*;
 
 use super::base;
+use super::prism::Prism;
 use super::settings::FingerDrive;
-use crate::geometry::ConvexPolygon;
-use crate::scene::{Gripper, ObjectId, Pose as PlanarPose};
+use crate::scene::Gripper;
 
 /// A contact normal with a vertical component above this (cos 60°) means a finger is on top of an
 /// object, not beside it.
@@ -41,83 +43,7 @@ const TABLE: u128 = 0;
 const OBJECT: u128 = 1;
 const FINGER: u128 = 2;
 
-/// One object as the simulator knows it: its prism and its full spatial pose.
-#[derive(Clone, Debug)]
-pub(super) struct Prism {
-    pub id: ObjectId,
-    pub name: Option<String>,
-    pub polygon: ConvexPolygon,
-    pub height: f64,
-    pub mass: f64,
-    pub translation: Vector,
-    pub rotation: Rotation,
-}
-
-impl Prism {
-    /// The pose seen from above: position of the body frame and yaw.
-    pub fn planar_pose(&self) -> PlanarPose {
-        let x_axis = self.rotation * Vector::X;
-        PlanarPose::new(
-            self.translation.x,
-            self.translation.y,
-            x_axis.y.atan2(x_axis.x),
-        )
-    }
-
-    /// How far the object is tilted from upright, radians.
-    pub fn tilt(&self) -> f64 {
-        (self.rotation * Vector::Z)
-            .dot(Vector::Z)
-            .clamp(-1.0, 1.0)
-            .acos()
-    }
-
-    /// The prism as an overhead camera sees it when it has toppled and lies flat on a face (three or
-    /// more corners on the table): its footprint (about its centroid), where that sits (yaw 0) and
-    /// how tall it stands now. `None` when it leans on something rather than lying flat.
-    pub fn lying_flat(&self) -> Option<(ConvexPolygon, PlanarPose, f64)> {
-        let corners: Vec<Vector> = self
-            .points()
-            .into_iter()
-            .map(|p| self.rotation * p + self.translation)
-            .collect();
-        let low = corners.iter().map(|c| c.z).fold(f64::INFINITY, f64::min);
-        let high = corners
-            .iter()
-            .map(|c| c.z)
-            .fold(f64::NEG_INFINITY, f64::max);
-        let on_table: Vec<nalgebra::Point2<f64>> = corners
-            .iter()
-            .filter(|c| c.z < low + 1e-3)
-            .map(|c| nalgebra::Point2::new(c.x, c.y))
-            .collect();
-        let resting = ConvexPolygon::new(crate::geometry::convex_hull(&on_table)).ok()?;
-        if resting.area() < 1e-6 {
-            return None;
-        }
-        let all: Vec<nalgebra::Point2<f64>> = corners
-            .iter()
-            .map(|c| nalgebra::Point2::new(c.x, c.y))
-            .collect();
-        let footprint = ConvexPolygon::new(crate::geometry::convex_hull(&all)).ok()?;
-        let centre = footprint.centroid();
-        let local = footprint.translated(&-centre.coords);
-        Some((local, PlanarPose::new(centre.x, centre.y, 0.0), high - low))
-    }
-
-    fn points(&self) -> Vec<Vector> {
-        self.polygon
-            .vertices()
-            .iter()
-            .flat_map(|v| {
-                [
-                    Vector::new(v.x, v.y, 0.0),
-                    Vector::new(v.x, v.y, self.height),
-                ]
-            })
-            .collect()
-    }
-}
+mod actions;
 
 /// Per-pair friction from the two colliders' materials.
 struct Materials {
@@ -455,161 +381,5 @@ impl Stage {
             }
         }
         None
-    }
-
-    /// Lets the world run with the palm still, seconds.
-    pub fn wait(&mut self, seconds: f64) {
-        let steps = (seconds / self.time_step).ceil() as usize;
-        for _ in 0..steps {
-            self.move_palm_to(self.palm_translation);
-            self.step();
-        }
-    }
-
-    fn move_palm_to(&mut self, translation: Vector) {
-        self.palm_translation = translation;
-        if let Some(palm) = self.world.bodies.get_mut(self.palm) {
-            palm.set_next_kinematic_position(Pose::from_parts(translation, self.palm_rotation));
-        }
-    }
-
-    /// Moves the palm in a straight line by `offset` at `speed`, simulating each step.
-    pub fn travel(&mut self, offset: Vector, speed: f64) {
-        let distance = offset.length();
-        if distance == 0.0 {
-            return;
-        }
-        let steps = (distance / (speed * self.time_step)).ceil().max(1.0) as usize;
-        let start = self.palm_translation;
-        for k in 1..=steps {
-            self.move_palm_to(start + offset * (k as f64 / steps as f64));
-            self.step();
-        }
-    }
-
-    /// Height of the fingertips above the table, metres.
-    pub fn tip_height(&self) -> f64 {
-        self.palm_translation.z - self.half_finger
-    }
-
-    /// Lowers the palm by `depth` at `speed`, stopping at once if a finger comes down on top of an
-    /// object; returns that object's index in the prisms.
-    pub fn descend(&mut self, depth: f64, speed: f64) -> Option<usize> {
-        if depth <= 0.0 {
-            return None;
-        }
-        let steps = (depth / (speed * self.time_step)).ceil().max(1.0) as usize;
-        let start = self.palm_translation;
-        for k in 1..=steps {
-            self.move_palm_to(start - Vector::Z * (depth * k as f64 / steps as f64));
-            self.step();
-            if let Some(index) = self.landed_on() {
-                return Some(index);
-            }
-        }
-        None
-    }
-
-    /// Closes the jaws at `speed` with at most `force` per finger, until they stop moving (or are shut);
-    /// returns the final opening between plate centres.
-    pub fn close(&mut self, speed: f64, force: f64, timeout: f64) -> f64 {
-        match self.drive.kind {
-            FingerDrive::Coupled => self.drive.closing = Some((speed, force)),
-            FingerDrive::Independent => {
-                for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
-                    if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
-                        joint
-                            .data
-                            .set_motor_velocity(JointAxis::LinX, -side * speed, 1000.0);
-                        joint.data.set_motor_max_force(JointAxis::LinX, force);
-                    }
-                }
-            }
-        }
-        let steps = (timeout / self.time_step).ceil() as usize;
-        let mut still = 0;
-        let mut last = self.opening();
-        for _ in 0..steps {
-            self.move_palm_to(self.palm_translation);
-            self.step();
-            let now = self.opening();
-            // Stopped: under a tenth of the commanded speed for 0.05 s.
-            if (last - now).abs() < 0.1 * speed * self.time_step {
-                still += 1;
-                if still as f64 * self.time_step >= 0.05 {
-                    break;
-                }
-            } else {
-                still = 0;
-            }
-            last = now;
-        }
-        self.opening()
-    }
-
-    /// Current distance between the plate centres, metres.
-    pub fn opening(&self) -> f64 {
-        let position = |h: RigidBodyHandle| {
-            self.world
-                .bodies
-                .get(h)
-                .map_or(Vector::ZERO, |b| b.translation())
-        };
-        (position(self.fingers[1]) - position(self.fingers[0])).length()
-    }
-
-    /// Opens the jaws to `opening` between plate centres at `speed`, then waits until they get there.
-    pub fn open(&mut self, opening: f64, speed: f64) {
-        self.drive.closing = None;
-        let from = self.opening();
-        self.drive.opening = opening;
-        let (stiffness, damping) = (self.drive.stiffness, self.drive.damping);
-        for (side, handle) in [-1.0, 1.0].into_iter().zip(self.joints) {
-            if let Some(joint) = self.world.impulse_joints.get_mut(handle, true) {
-                match self.drive.kind {
-                    FingerDrive::Coupled => {
-                        joint.data.set_motor_position(
-                            JointAxis::LinX,
-                            side * opening / 2.0,
-                            stiffness,
-                            damping,
-                        );
-                    }
-                    FingerDrive::Independent => {
-                        joint.data.set_motor_position(
-                            JointAxis::LinX,
-                            side * opening / 2.0,
-                            2000.0,
-                            100.0,
-                        );
-                        joint.data.set_motor_max_force(JointAxis::LinX, 200.0);
-                    }
-                }
-            }
-        }
-        self.wait((opening - from).abs() / speed + 0.05);
-    }
-
-    /// Each member's index in the prisms and its planar pose now.
-    pub fn poses(&self) -> Vec<(usize, PlanarPose)> {
-        self.members
-            .iter()
-            .filter_map(|&(index, handle)| {
-                let body = self.world.bodies.get(handle)?;
-                let x_axis = *body.rotation() * Vector::X;
-                let t = body.translation();
-                Some((index, PlanarPose::new(t.x, t.y, x_axis.y.atan2(x_axis.x))))
-            })
-            .collect()
-    }
-
-    /// Writes the simulated poses back into `prisms`.
-    pub fn write_back(&self, prisms: &mut [Prism]) {
-        for &(index, handle) in &self.members {
-            if let Some(body) = self.world.bodies.get(handle) {
-                prisms[index].translation = body.translation();
-                prisms[index].rotation = *body.rotation();
-            }
-        }
     }
 }
