@@ -477,3 +477,57 @@ fn flush_pushes_meet_a_face_of_their_object_flat() {
     assert!(!skewed(0.0) && !skewed(35.0));
     assert!(skewed(45.0) && skewed(-60.0));
 }
+
+/// A search the time limit ends says so: its answer is `time_limit` (the cheapest row solved in
+/// time, whose pushes give a valid table) or a failure naming the limit, never `best_found` or
+/// `infeasible`; a search that does not say so solved every row the unlimited search solves. A
+/// limit that is not a positive duration is refused.
+#[test]
+fn a_search_cut_short_by_the_time_limit_says_so() {
+    let unlimited = Socp::default();
+    let limited = Socp::new(
+        SocpSettings {
+            time_limit: Some(0.001),
+            ..SocpSettings::default()
+        },
+        Problem::shared_default(),
+    )
+    .unwrap();
+    let mut cut = 0;
+    for seed in 0..4 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let clustering = Hierarchical::default().cluster(&scene).unwrap().value;
+        for cluster in clustering.clusters.iter().filter(|c| c.len() > 1) {
+            let full = unlimited.plan(&scene, cluster).unwrap();
+            let short = limited.plan(&scene, cluster).unwrap();
+            match &short.status {
+                Status::TimeLimit => {
+                    cut += 1;
+                    // The pushes of the row found in time still give a valid table.
+                    predict(&scene, &short.value.pushes).unwrap();
+                }
+                Status::Failed { reason } if reason.contains("time limit") => cut += 1,
+                other => {
+                    assert_eq!(other, &full.status, "seed {seed}, cluster {cluster:?}");
+                    assert_eq!(
+                        short.stats.counter("socp_solves"),
+                        full.stats.counter("socp_solves"),
+                        "seed {seed}, cluster {cluster:?}: not cut short, yet fewer rows solved"
+                    );
+                }
+            }
+        }
+    }
+    assert!(cut > 0, "a 1 ms limit cut no search short");
+    for bad in [0.0, -1.0, f64::NAN] {
+        let settings = SocpSettings {
+            time_limit: Some(bad),
+            ..SocpSettings::default()
+        };
+        assert!(
+            Socp::new(settings, Problem::shared_default()).is_err(),
+            "{bad}"
+        );
+    }
+}

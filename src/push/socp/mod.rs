@@ -24,7 +24,10 @@
 //! can be pushed into place is taken, visiting axes by bound until none can beat it. For three or more
 //! members, the other orders along the chosen axis are tried too (up to `max_orders`). The answer is
 //! the cheapest held row if there is one, else the cheapest row; `PushPlan::row_held` says
-//! which. No row on any axis: [`Status::Infeasible`]; rows but no push sequence: a failed status.
+//! which, with status [`Status::BestFound`]. No row on any axis: [`Status::Infeasible`]; rows but no
+//! push sequence: a failed status. With `time_limit`, a search still running at the limit stops
+//! before its next solve: the cheapest row so far with [`Status::TimeLimit`], or a failed status
+//! naming the limit (never `infeasible`, since the rows not solved prove nothing).
 //!
 //! With `flush` (flush pushes, [`super::flush`]) every push must meet a face of its object flat:
 //! each moving member's target is kept within a cone about one face's inward normal (two linear

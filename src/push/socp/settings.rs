@@ -74,6 +74,12 @@ pub struct SocpSettings {
     /// the two allow and the jaws have room on both sides, instead of the row just fitting the
     /// jaws less the margin, as the least push would leave it.
     pub flush_gap: f64,
+    /// Longest a search for one cluster may run, seconds, checked before each row is solved. When
+    /// it ends the search, the cheapest row found so far is the answer with status `time_limit`
+    /// (and none found: a failed status saying so). Default none: every axis and order is tried,
+    /// so answers do not depend on the machine's speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_limit: Option<f64>,
 }
 
 impl Default for SocpSettings {
@@ -94,6 +100,7 @@ impl Default for SocpSettings {
             flush_margin: 0.002,
             flush_cone: 0.19,
             flush_gap: 0.003,
+            time_limit: None,
         }
     }
 }
@@ -129,6 +136,15 @@ impl SocpSettings {
         ];
         for (field, value, range) in lengths {
             crate::error::in_range("socp", field, value, range, "metres, within a jaw's reach")?;
+        }
+        if let Some(limit) = self.time_limit {
+            crate::error::in_range(
+                "socp",
+                "time_limit",
+                limit,
+                (0.001, 3600.0),
+                "seconds of search per cluster",
+            )?;
         }
         crate::error::in_range(
             "socp",

@@ -107,6 +107,9 @@ impl Search<'_> {
         order: &[usize],
         motion: Option<&Motion>,
     ) -> Option<(RowSolution, Motion)> {
+        if self.out_of_time() {
+            return None;
+        }
         if let Some(motion) = motion {
             let solution = self.solve(axis, order, motion);
             return solution.solved().then(|| (solution, motion.clone()));

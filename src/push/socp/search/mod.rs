@@ -74,6 +74,8 @@ struct Search<'a> {
     solver_seconds: Cell<f64>,
     iterations: Cell<u64>,
     last_status: Cell<SolverStatus>,
+    /// Whether `socp.time_limit` ended the search before every row was solved.
+    cut_short: Cell<bool>,
 }
 
 /// The SOCP planner's answer for `cluster` on `scene`.
@@ -122,6 +124,7 @@ pub(super) fn plan(socp: &Socp, scene: &Scene, cluster: &[ObjectId]) -> Result<O
         solver_seconds: Cell::new(0.0),
         iterations: Cell::new(0),
         last_status: Cell::new(SolverStatus::Unsolved),
+        cut_short: Cell::new(false),
     };
     Ok(search.run())
 }
@@ -190,6 +193,19 @@ impl Search<'_> {
             .set(self.iterations.get() + u64::from(solution.iterations));
         self.last_status.set(solution.status);
         solution
+    }
+
+    /// Whether the search has run past `socp.time_limit` (noted, so the answer says so).
+    fn out_of_time(&self) -> bool {
+        let out = self
+            .socp
+            .settings
+            .time_limit
+            .is_some_and(|limit| self.started.elapsed().as_secs_f64() >= limit);
+        if out {
+            self.cut_short.set(true);
+        }
+        out
     }
 
     /// The members in the order of their centroids along `axis`.
@@ -305,11 +321,16 @@ impl Search<'_> {
             let chosen = attempts.swap_remove(k);
             counters.push(("axis".to_string(), chosen.axis.y.atan2(chosen.axis.x)));
             // Each row is optimal for its axis and order; over the axes and orders sampled, the
-            // cheapest is the best found.
+            // cheapest is the best found (of those solved before the time limit, if it struck).
+            let status = if self.cut_short.get() {
+                Status::TimeLimit
+            } else {
+                Status::BestFound
+            };
             return finish(
                 self.started,
                 chosen.plan,
-                Status::BestFound,
+                status,
                 Some(format!("clarabel: {:?}", chosen.status)),
                 counters,
             );
@@ -319,22 +340,42 @@ impl Search<'_> {
             .iter()
             .map(|&i| self.scene.objects()[i].id)
             .collect();
-        let (status, skipped) = match failure {
-            Some((object, reason)) if solved_any => (
+        let no_row: Vec<SkippedPush> = ids
+            .iter()
+            .map(|&object| SkippedPush {
+                object,
+                reason: SkipReason::NoRow,
+            })
+            .collect();
+        // A search the time limit ended proves nothing about the rows it did not solve.
+        let limit = self
+            .cut_short
+            .get()
+            .then(|| self.socp.settings.time_limit.unwrap_or_default());
+        let (status, skipped) = match (failure, limit) {
+            (Some((object, reason)), _) if solved_any => (
                 Status::Failed {
-                    reason: format!("no push sequence for any row: object {object}: {reason}"),
+                    reason: match limit {
+                        Some(limit) => format!(
+                            "no push sequence for any row solved before the time limit \
+                             ({limit} s): object {object}: {reason}"
+                        ),
+                        None => {
+                            format!("no push sequence for any row: object {object}: {reason}")
+                        }
+                    },
                 },
                 vec![SkippedPush { object, reason }],
             ),
-            _ => (
-                Status::Infeasible,
-                ids.iter()
-                    .map(|&object| SkippedPush {
-                        object,
-                        reason: SkipReason::NoRow,
-                    })
-                    .collect(),
+            (_, Some(limit)) => (
+                Status::Failed {
+                    reason: format!(
+                        "the time limit ({limit} s) ended the search before a row was found"
+                    ),
+                },
+                no_row,
             ),
+            _ => (Status::Infeasible, no_row),
         };
         finish(
             self.started,
