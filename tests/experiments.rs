@@ -464,3 +464,31 @@ label = "socp rows"
     assert!(single.join("tiny-opt.svg").exists());
     assert!(!single.join("tiny-push-distance.svg").exists());
 }
+
+/// Policy labels are the user's text: one holding a comma and quotes comes back whole from the
+/// results CSV, and every line has as many fields as the header.
+#[test]
+fn a_label_with_commas_and_quotes_stays_one_csv_field() {
+    use pushmog::experiment::tables::timing_csv;
+    let dir = scratch("experiment-csv-label");
+    let label = r#"sog, "the baseline""#;
+    let mut config = config("ideal");
+    config.scenes.count = 1;
+    config.policies[0].label = Some(label.to_string());
+    let path = dir.join("label.jsonl");
+    run_experiment(&config, Path::new("."), &options(&path, (0, 1), None)).unwrap();
+    let log = read_log(&path).unwrap();
+    for text in [results_csv(&log), timing_csv(&log)] {
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        let width = reader.headers().unwrap().len();
+        let policies: Vec<String> = reader
+            .records()
+            .map(|record| {
+                let record = record.unwrap();
+                assert_eq!(record.len(), width, "{text}");
+                record[0].to_string()
+            })
+            .collect();
+        assert_eq!(policies, [label, "push-mog"], "{text}");
+    }
+}

@@ -346,67 +346,107 @@ fn cpu_text(seconds: f64) -> String {
     }
 }
 
+/// One line of the results CSV, each figure as printed.
+#[derive(serde::Serialize)]
+struct ResultsLine {
+    policy: String,
+    objects: usize,
+    bin_distance: String,
+    friction: String,
+    runs: usize,
+    opt_mean: String,
+    opt_std: String,
+    paper_opt_mean: String,
+    paper_opt_std: String,
+    trips: String,
+    pushes: String,
+    push_distance: String,
+    failed_grasps: String,
+    landings: String,
+    cleared: usize,
+    robot_seconds: String,
+    picks_per_hour: String,
+    picks_per_hour_95: String,
+    versus_sog: String,
+    versus_sog_95: String,
+}
+
+/// One line of the timing CSV.
+#[derive(serde::Serialize)]
+struct TimingLine {
+    policy: String,
+    objects: usize,
+    bin_distance: String,
+    friction: String,
+    planning_median: String,
+    planning_p95: String,
+    clustering_median: String,
+    cpu_median: String,
+}
+
+/// `lines` as CSV with a header of their field names; fields that hold a comma, a quote or a line
+/// break (policy labels are the user's text) are quoted.
+fn csv_text<T: serde::Serialize>(lines: impl IntoIterator<Item = T>) -> String {
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    // Flat records of strings and counts, written to memory: no step here can fail.
+    for line in lines {
+        writer
+            .serialize(line)
+            .expect("a flat record serialises to memory");
+    }
+    let bytes = writer.into_inner().expect("memory takes every byte");
+    String::from_utf8(bytes).expect("CSV of UTF-8 strings is UTF-8")
+}
+
 /// The results as CSV (one line per group; no wall-clock columns).
 pub fn results_csv(log: &Log) -> String {
-    let mut out = String::from(
-        "policy,objects,bin_distance,friction,runs,opt_mean,opt_std,paper_opt_mean,paper_opt_std,trips,pushes,push_distance,failed_grasps,landings,cleared,robot_seconds,picks_per_hour,picks_per_hour_95,versus_sog,versus_sog_95\n",
-    );
-    for g in summarise(log) {
+    csv_text(summarise(log).into_iter().map(|g| {
         let paper = paper_reference(&g);
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{:.6},{:.6},{},{},{:.4},{:.4},{:.6},{:.4},{:.4},{},{:.4},{:.4},{:.4},{},{}",
-            g.policy,
-            g.objects,
-            g.bin_distance,
-            g.friction.map_or(String::new(), |f| f.to_string()),
-            g.runs,
-            g.opt.0,
-            g.opt.1,
-            paper.map_or(String::new(), |(m, _)| format!("{m}")),
-            paper.map_or(String::new(), |(_, s)| format!("{s}")),
-            g.trips,
-            g.pushes,
-            g.push_distance,
-            g.failed_grasps,
-            g.landings,
-            g.cleared,
-            g.robot_seconds,
-            g.picks_per_hour,
-            g.picks_per_hour_95,
-            g.versus_sog
+        ResultsLine {
+            policy: g.policy.clone(),
+            objects: g.objects,
+            bin_distance: g.bin_distance.to_string(),
+            friction: g.friction.map_or(String::new(), |f| f.to_string()),
+            runs: g.runs,
+            opt_mean: format!("{:.6}", g.opt.0),
+            opt_std: format!("{:.6}", g.opt.1),
+            paper_opt_mean: paper.map_or(String::new(), |(m, _)| format!("{m}")),
+            paper_opt_std: paper.map_or(String::new(), |(_, s)| format!("{s}")),
+            trips: format!("{:.4}", g.trips),
+            pushes: format!("{:.4}", g.pushes),
+            push_distance: format!("{:.6}", g.push_distance),
+            failed_grasps: format!("{:.4}", g.failed_grasps),
+            landings: format!("{:.4}", g.landings),
+            cleared: g.cleared,
+            robot_seconds: format!("{:.4}", g.robot_seconds),
+            picks_per_hour: format!("{:.4}", g.picks_per_hour),
+            picks_per_hour_95: format!("{:.4}", g.picks_per_hour_95),
+            versus_sog: g
+                .versus_sog
                 .map_or(String::new(), |(m, _)| format!("{m:.6}")),
-            g.versus_sog
-                .map_or(String::new(), |(_, h)| format!("{h:.6}"))
-        );
-    }
-    out
+            versus_sog_95: g
+                .versus_sog
+                .map_or(String::new(), |(_, h)| format!("{h:.6}")),
+        }
+    }))
 }
 
 /// The wall-clock figures as CSV.
 pub fn timing_csv(log: &Log) -> String {
-    let mut out = String::from(
-        "policy,objects,bin_distance,friction,planning_median,planning_p95,clustering_median,cpu_median\n",
-    );
-    for g in summarise(log) {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{:.9},{:.9},{:.9},{}",
-            g.policy,
-            g.objects,
-            g.bin_distance,
-            g.friction.map_or(String::new(), |f| f.to_string()),
-            g.planning_median,
-            g.planning_p95,
-            g.clustering_median,
-            if g.cpu_median > 0.0 {
-                format!("{:.6}", g.cpu_median)
-            } else {
-                String::new()
-            }
-        );
-    }
-    out
+    csv_text(summarise(log).into_iter().map(|g| TimingLine {
+        policy: g.policy.clone(),
+        objects: g.objects,
+        bin_distance: g.bin_distance.to_string(),
+        friction: g.friction.map_or(String::new(), |f| f.to_string()),
+        planning_median: format!("{:.9}", g.planning_median),
+        planning_p95: format!("{:.9}", g.planning_p95),
+        clustering_median: format!("{:.9}", g.clustering_median),
+        cpu_median: if g.cpu_median > 0.0 {
+            format!("{:.6}", g.cpu_median)
+        } else {
+            String::new()
+        },
+    }))
 }
 
 fn tex(text: &str) -> String {
