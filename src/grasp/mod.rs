@@ -2,7 +2,7 @@
 //!
 //! - [`JawPose`]: centre, closing axis and opening of the parallel jaws; the plates' footprints and the
 //!   region between them.
-//! - [`GraspModel`]: what a closing does. The caught objects slide into a row (`model.rs`); then by
+//! - [`GraspModel`]: what a closing does. The caught objects slide into a row (`model/row.rs`); then by
 //!   default the closing is simulated in the plane, objects sliding and turning on the table while the
 //!   coupled plates close (`closing/`), or judged by the first, analytic model (objects slide
 //!   without turning, Nguyen's condition object by object).

@@ -28,7 +28,7 @@
 //! Asked for two or more objects ([`GraspRequest::several`]), it ranks those grasps alone: the
 //! policies ask so, since they take one object by itself with the single-object planner anyway.
 //!
-//! This is not the learned MOG-Net: it predicts with the models of `model.rs` and `closing/`.
+//! This is not the learned MOG-Net: it predicts with the models of `model/` and `closing/`.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
