@@ -78,9 +78,9 @@ impl PhysicsHooks for Materials {
 pub(super) struct Stage {
     world: PhysicsWorld,
     hooks: Materials,
-    members: Vec<(usize, RigidBodyHandle)>,
+    members: Members,
     /// Each object's collider and its index in the prisms.
-    object_colliders: Vec<(ColliderHandle, usize)>,
+    object_colliders: ObjectColliders,
     palm: RigidBodyHandle,
     joints: [ImpulseJointHandle; 2],
     fingers: [RigidBodyHandle; 2],
@@ -134,73 +134,9 @@ impl Stage {
         yaw: f64,
         opening: f64,
     ) -> Self {
-        let mut world = PhysicsWorld::new();
-        world.gravity = Vector::new(0.0, 0.0, -9.81);
-        world.integration_parameters.dt = settings.time_step;
-        world
-            .integration_parameters
-            .contact_softness
-            .natural_frequency = settings.contact_frequency;
-        // Coulomb friction at every contact point. rapier's default (`Simplified`) adds a "twist"
-        // constraint per manifold that removes rotation in the contact plane: an object pushed off
-        // its centre by one finger then slides without turning (a 26 × 44 mm block pushed 6–13 mm
-        // off centre kept its yaw to 0.01°, where MuJoCo turned it 28°), and pushes looked exact.
-        // Per-point Coulomb friction resists turning only through where the contacts are, as the
-        // limit surface of `formulations/grasping.md` does.
-        world.integration_parameters.friction_model = FrictionModel::Coulomb;
         let hooks = ActiveHooks::MODIFY_SOLVER_CONTACTS;
-        // The table: a wide fixed slab whose top is z = 0.
-        let table = world
-            .bodies
-            .insert(RigidBodyBuilder::fixed().translation(Vector::new(palm.0, palm.1, -0.05)));
-        world.colliders.insert_with_parent(
-            ColliderBuilder::cuboid(1.0, 1.0, 0.05)
-                .collision_groups(base::table_groups())
-                .user_data(TABLE)
-                .active_hooks(hooks),
-            table,
-            &mut world.bodies,
-        );
-        let mut handles = Vec::with_capacity(members.len());
-        let mut object_colliders = Vec::with_capacity(members.len());
-        for &index in members {
-            let prism = &prisms[index];
-            let body = world.bodies.insert(
-                RigidBodyBuilder::dynamic()
-                    .pose(Pose::from_parts(prism.translation, prism.rotation))
-                    .can_sleep(false),
-            );
-            let volume = prism.polygon.area() * prism.height;
-            let base = base::collider(&prism.polygon, prism.height);
-            let groups = if base.is_some() {
-                base::hull_over_base_groups()
-            } else {
-                base::body_groups()
-            };
-            if let Some(collider) = ColliderBuilder::convex_hull(&prism.points()) {
-                let handle = world.colliders.insert_with_parent(
-                    collider
-                        .density(prism.mass / volume)
-                        .collision_groups(groups)
-                        .user_data(OBJECT)
-                        .active_hooks(hooks),
-                    body,
-                    &mut world.bodies,
-                );
-                object_colliders.push((handle, index));
-            }
-            if let Some(base) = base {
-                world.colliders.insert_with_parent(
-                    base.density(0.0)
-                        .collision_groups(base::base_groups())
-                        .user_data(OBJECT)
-                        .active_hooks(hooks),
-                    body,
-                    &mut world.bodies,
-                );
-            }
-            handles.push((index, body));
-        }
+        let mut world = world_with_table(settings, palm, hooks);
+        let (handles, object_colliders) = add_objects(&mut world, prisms, members, hooks);
         let palm_rotation = Rotation::from_rotation_z(yaw);
         let palm_translation =
             Vector::new(palm.0, palm.1, tip_height + settings.finger_height / 2.0);
@@ -208,61 +144,17 @@ impl Stage {
             RigidBodyBuilder::kinematic_position_based()
                 .pose(Pose::from_parts(palm_translation, palm_rotation)),
         );
-        let half = [
-            gripper.plate_thickness / 2.0,
-            gripper.plate_length / 2.0,
-            settings.finger_height / 2.0,
-        ];
-        let volume = 8.0 * half[0] * half[1] * half[2];
         let stiffness = settings.linkage_stiffness;
         // Critically damped servo of one finger on the linkage.
         let damping = 2.0 * (stiffness * settings.finger_mass).sqrt();
-        let mut fingers = Vec::with_capacity(2);
-        let mut finger_colliders = Vec::with_capacity(2);
-        let mut joints = Vec::with_capacity(2);
-        for side in [-1.0, 1.0] {
-            let offset = palm_rotation * Vector::new(side * opening / 2.0, 0.0, 0.0);
-            let finger = world.bodies.insert(
-                RigidBodyBuilder::dynamic()
-                    .pose(Pose::from_parts(palm_translation + offset, palm_rotation))
-                    .can_sleep(false),
-            );
-            finger_colliders.push(
-                world.colliders.insert_with_parent(
-                    ColliderBuilder::cuboid(half[0], half[1], half[2])
-                        .density(settings.finger_mass / volume)
-                        .collision_groups(base::body_groups())
-                        .user_data(FINGER)
-                        .active_hooks(hooks),
-                    finger,
-                    &mut world.bodies,
-                ),
-            );
-            let limits = if side < 0.0 {
-                [-gripper.stroke / 2.0, -gripper.plate_thickness / 2.0]
-            } else {
-                [gripper.plate_thickness / 2.0, gripper.stroke / 2.0]
-            };
-            let joint = PrismaticJointBuilder::new(Vector::X)
-                .local_anchor1(Vector::ZERO)
-                .local_anchor2(Vector::ZERO)
-                .limits(limits)
-                .motor_model(MotorModel::ForceBased)
-                .contacts_enabled(false);
-            // Both drives hold the fingers at the opening until told to close; the coupled servo is
-            // the linkage itself, as strong as the arm needs (200 N, ten times the grip).
-            let joint = match settings.fingers {
-                FingerDrive::Coupled => {
-                    joint.motor_position(side * opening / 2.0, stiffness, damping)
-                }
-                FingerDrive::Independent => {
-                    joint.motor_position(side * opening / 2.0, 2000.0, 100.0)
-                }
-            }
-            .motor_max_force(200.0);
-            joints.push(world.impulse_joints.insert(palm_body, finger, joint, true));
-            fingers.push(finger);
-        }
+        let (fingers, finger_colliders, joints) = add_fingers(
+            &mut world,
+            (gripper, settings),
+            palm_body,
+            (palm_translation, palm_rotation),
+            opening,
+            (stiffness, damping, hooks),
+        );
         Self {
             world,
             hooks: Materials {
@@ -273,9 +165,9 @@ impl Stage {
             members: handles,
             object_colliders,
             palm: palm_body,
-            joints: [joints[0], joints[1]],
-            fingers: [fingers[0], fingers[1]],
-            finger_colliders: [finger_colliders[0], finger_colliders[1]],
+            joints,
+            fingers,
+            finger_colliders,
             palm_translation,
             palm_rotation,
             time_step: settings.time_step,
@@ -382,4 +274,164 @@ impl Stage {
         }
         None
     }
+}
+
+/// Each member's prism index and its body.
+type Members = Vec<(usize, RigidBodyHandle)>;
+/// Each object's hull collider and its prism index.
+type ObjectColliders = Vec<(ColliderHandle, usize)>;
+
+/// An empty world under gravity with the solver's settings, and the table: a wide fixed slab whose
+/// top is z = 0, centred under the palm.
+fn world_with_table(
+    settings: &StageSettings,
+    palm: (f64, f64),
+    hooks: ActiveHooks,
+) -> PhysicsWorld {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::new(0.0, 0.0, -9.81);
+    world.integration_parameters.dt = settings.time_step;
+    world
+        .integration_parameters
+        .contact_softness
+        .natural_frequency = settings.contact_frequency;
+    // Coulomb friction at every contact point. rapier's default (`Simplified`) adds a "twist"
+    // constraint per manifold that removes rotation in the contact plane: an object pushed off
+    // its centre by one finger then slides without turning (a 26 × 44 mm block pushed 6–13 mm
+    // off centre kept its yaw to 0.01°, where MuJoCo turned it 28°), and pushes looked exact.
+    // Per-point Coulomb friction resists turning only through where the contacts are, as the
+    // limit surface of `formulations/grasping.md` does.
+    world.integration_parameters.friction_model = FrictionModel::Coulomb;
+    let table = world
+        .bodies
+        .insert(RigidBodyBuilder::fixed().translation(Vector::new(palm.0, palm.1, -0.05)));
+    world.colliders.insert_with_parent(
+        ColliderBuilder::cuboid(1.0, 1.0, 0.05)
+            .collision_groups(base::table_groups())
+            .user_data(TABLE)
+            .active_hooks(hooks),
+        table,
+        &mut world.bodies,
+    );
+    world
+}
+
+/// Each member's prism as a dynamic body (its hull, and a base under outlines of many vertices):
+/// the bodies by prism index, and each hull collider with its prism index.
+fn add_objects(
+    world: &mut PhysicsWorld,
+    prisms: &[Prism],
+    members: &[usize],
+    hooks: ActiveHooks,
+) -> (Members, ObjectColliders) {
+    let mut handles = Vec::with_capacity(members.len());
+    let mut object_colliders = Vec::with_capacity(members.len());
+    for &index in members {
+        let prism = &prisms[index];
+        let body = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(prism.translation, prism.rotation))
+                .can_sleep(false),
+        );
+        let volume = prism.polygon.area() * prism.height;
+        let base = base::collider(&prism.polygon, prism.height);
+        let groups = if base.is_some() {
+            base::hull_over_base_groups()
+        } else {
+            base::body_groups()
+        };
+        if let Some(collider) = ColliderBuilder::convex_hull(&prism.points()) {
+            let handle = world.colliders.insert_with_parent(
+                collider
+                    .density(prism.mass / volume)
+                    .collision_groups(groups)
+                    .user_data(OBJECT)
+                    .active_hooks(hooks),
+                body,
+                &mut world.bodies,
+            );
+            object_colliders.push((handle, index));
+        }
+        if let Some(base) = base {
+            world.colliders.insert_with_parent(
+                base.density(0.0)
+                    .collision_groups(base::base_groups())
+                    .user_data(OBJECT)
+                    .active_hooks(hooks),
+                body,
+                &mut world.bodies,
+            );
+        }
+        handles.push((index, body));
+    }
+    (handles, object_colliders)
+}
+
+/// The two fingers, boxes on prismatic joints along the palm's `x`, held `opening` apart by their
+/// drives: the finger bodies, their colliders and their joints.
+fn add_fingers(
+    world: &mut PhysicsWorld,
+    (gripper, settings): (&Gripper, &StageSettings),
+    palm_body: RigidBodyHandle,
+    (palm_translation, palm_rotation): (Vector, Rotation),
+    opening: f64,
+    (stiffness, damping, hooks): (f64, f64, ActiveHooks),
+) -> (
+    [RigidBodyHandle; 2],
+    [ColliderHandle; 2],
+    [ImpulseJointHandle; 2],
+) {
+    let half = [
+        gripper.plate_thickness / 2.0,
+        gripper.plate_length / 2.0,
+        settings.finger_height / 2.0,
+    ];
+    let volume = 8.0 * half[0] * half[1] * half[2];
+    let mut fingers = Vec::with_capacity(2);
+    let mut finger_colliders = Vec::with_capacity(2);
+    let mut joints = Vec::with_capacity(2);
+    for side in [-1.0, 1.0] {
+        let offset = palm_rotation * Vector::new(side * opening / 2.0, 0.0, 0.0);
+        let finger = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(palm_translation + offset, palm_rotation))
+                .can_sleep(false),
+        );
+        finger_colliders.push(
+            world.colliders.insert_with_parent(
+                ColliderBuilder::cuboid(half[0], half[1], half[2])
+                    .density(settings.finger_mass / volume)
+                    .collision_groups(base::body_groups())
+                    .user_data(FINGER)
+                    .active_hooks(hooks),
+                finger,
+                &mut world.bodies,
+            ),
+        );
+        let limits = if side < 0.0 {
+            [-gripper.stroke / 2.0, -gripper.plate_thickness / 2.0]
+        } else {
+            [gripper.plate_thickness / 2.0, gripper.stroke / 2.0]
+        };
+        let joint = PrismaticJointBuilder::new(Vector::X)
+            .local_anchor1(Vector::ZERO)
+            .local_anchor2(Vector::ZERO)
+            .limits(limits)
+            .motor_model(MotorModel::ForceBased)
+            .contacts_enabled(false);
+        // Both drives hold the fingers at the opening until told to close; the coupled servo is
+        // the linkage itself, as strong as the arm needs (200 N, ten times the grip).
+        let joint = match settings.fingers {
+            FingerDrive::Coupled => joint.motor_position(side * opening / 2.0, stiffness, damping),
+            FingerDrive::Independent => joint.motor_position(side * opening / 2.0, 2000.0, 100.0),
+        }
+        .motor_max_force(200.0);
+        joints.push(world.impulse_joints.insert(palm_body, finger, joint, true));
+        fingers.push(finger);
+    }
+    (
+        [fingers[0], fingers[1]],
+        [finger_colliders[0], finger_colliders[1]],
+        [joints[0], joints[1]],
+    )
 }
