@@ -215,29 +215,81 @@ pub(super) fn solve_row(
     motion: &Motion,
     cone: f64,
 ) -> RowSolution {
-    let (fixed, flush) = (&motion.fixed, &motion.along);
-    let row_limit = motion.limit.unwrap_or(problem.row_limit);
-    let k = problem.starts.len();
-    let across = Vector2::new(-axis.y, axis.x);
-    // Columns: p_i = (2i, 2i+1), t_i = 2k + i, c = 3k.
-    let (px, py, t, c) = (
-        |i: usize| 2 * i,
-        |i: usize| 2 * i + 1,
-        |i: usize| 2 * k + i,
-        3 * k,
-    );
-    let columns = 3 * k + 1;
-    let support = |i: usize, d: &Vector2<f64>| problem.outlines[i].support(d);
-    let along =
-        |i: usize, d: &Vector2<f64>, scale: f64| [(px(i), scale * d.x), (py(i), scale * d.y)];
-
+    let columns = Columns {
+        k: problem.starts.len(),
+    };
     // Equalities first (zero cone), then inequalities (non-negative cone), then one cone per object.
     let mut zero = Rows::new();
-    for i in (0..k).filter(|&i| fixed[i]) {
-        zero.push(&[(px(i), 1.0)], problem.starts[i].x);
-        zero.push(&[(py(i), 1.0)], problem.starts[i].y);
-    }
     let mut inequalities = Rows::new();
+    held_and_flush_rows(problem, motion, cone, columns, &mut zero, &mut inequalities);
+    let row_limit = motion.limit.unwrap_or(problem.row_limit);
+    order_rows(problem, axis, order, row_limit, columns, &mut inequalities);
+    for i in 0..columns.k {
+        object_rows(problem, axis, i, columns, &mut inequalities);
+    }
+    for fence in problem.fences {
+        // normal·p ≥ offset  ⇔  −normal·p ≤ −offset.
+        inequalities.push(
+            &columns.along(fence.member, &fence.normal, -1.0),
+            -fence.offset,
+        );
+    }
+    let mut cones_rows = Rows::new();
+    for i in 0..columns.k {
+        cones_rows.push(&[(columns.t(i), -1.0)], 0.0);
+        cones_rows.push(&[(columns.px(i), -1.0)], -problem.starts[i].x);
+        cones_rows.push(&[(columns.py(i), -1.0)], -problem.starts[i].y);
+    }
+    solve_program(&zero, &inequalities, &cones_rows, columns)
+}
+
+/// The program's columns: `p_i = (2i, 2i+1)`, `t_i = 2k + i`, `c = 3k`.
+#[derive(Clone, Copy)]
+struct Columns {
+    k: usize,
+}
+
+impl Columns {
+    fn px(self, i: usize) -> usize {
+        2 * i
+    }
+
+    fn py(self, i: usize) -> usize {
+        2 * i + 1
+    }
+
+    fn t(self, i: usize) -> usize {
+        2 * self.k + i
+    }
+
+    fn c(self) -> usize {
+        3 * self.k
+    }
+
+    fn count(self) -> usize {
+        3 * self.k + 1
+    }
+
+    /// The terms of `scale · d·p_i`.
+    fn along(self, i: usize, d: &Vector2<f64>, scale: f64) -> [(usize, f64); 2] {
+        [(self.px(i), scale * d.x), (self.py(i), scale * d.y)]
+    }
+}
+
+/// Members held where they are, and members moved only within a cone about a face's normal.
+fn held_and_flush_rows(
+    problem: &RowProblem<'_>,
+    motion: &Motion,
+    cone: f64,
+    columns: Columns,
+    zero: &mut Rows,
+    inequalities: &mut Rows,
+) {
+    let (fixed, flush) = (&motion.fixed, &motion.along);
+    for i in (0..columns.k).filter(|&i| fixed[i]) {
+        zero.push(&[(columns.px(i), 1.0)], problem.starts[i].x);
+        zero.push(&[(columns.py(i), 1.0)], problem.starts[i].y);
+    }
     let left = |d: &Vector2<f64>| Vector2::new(-d.y, d.x);
     for (i, normal) in flush.iter().enumerate() {
         let Some(n) = normal.filter(|_| !fixed[i]) else {
@@ -247,70 +299,97 @@ pub(super) fn solve_row(
         if cone > 0.0 {
             // Counter-clockwise of n₋ and clockwise of n₊: −n₋⊥·p ≤ −n₋⊥·p⁰, n₊⊥·p ≤ n₊⊥·p⁰.
             let (low, high) = (left(&turned(&n, -cone)), left(&turned(&n, cone)));
-            inequalities.push(&along(i, &low, -1.0), -low.dot(&start));
-            inequalities.push(&along(i, &high, 1.0), high.dot(&start));
+            inequalities.push(&columns.along(i, &low, -1.0), -low.dot(&start));
+            inequalities.push(&columns.along(i, &high, 1.0), high.dot(&start));
         } else {
             let across = left(&n);
-            zero.push(&along(i, &across, 1.0), across.dot(&start));
-            inequalities.push(&along(i, &n, -1.0), -n.dot(&start));
+            zero.push(&columns.along(i, &across, 1.0), across.dot(&start));
+            inequalities.push(&columns.along(i, &n, -1.0), -n.dot(&start));
         }
     }
+}
+
+/// Neighbours in `order` apart by at least the gap, and the whole row within `row_limit`.
+fn order_rows(
+    problem: &RowProblem<'_>,
+    axis: &Vector2<f64>,
+    order: &[usize],
+    row_limit: f64,
+    columns: Columns,
+    inequalities: &mut Rows,
+) {
+    let support = |i: usize, d: &Vector2<f64>| problem.outlines[i].support(d);
     for pair in order.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         let needed = support(a, axis) + support(b, &-axis) + problem.gap;
-        let mut terms = along(a, axis, 1.0).to_vec();
-        terms.extend(along(b, axis, -1.0));
+        let mut terms = columns.along(a, axis, 1.0).to_vec();
+        terms.extend(columns.along(b, axis, -1.0));
         inequalities.push(&terms, -needed);
     }
     if let (Some(&first), Some(&last)) = (order.first(), order.last()) {
         let limit = row_limit - support(last, axis) - support(first, &-axis);
-        let mut terms = along(last, axis, 1.0).to_vec();
-        terms.extend(along(first, axis, -1.0));
+        let mut terms = columns.along(last, axis, 1.0).to_vec();
+        terms.extend(columns.along(first, axis, -1.0));
         inequalities.push(&terms, limit);
     }
-    for i in 0..k {
-        // v·p_i − h_i(−v) ≤ c − s   and   −v·p_i − h_i(v) ≤ −c − s.
-        let mut below = along(i, &across, 1.0).to_vec();
-        below.push((c, -1.0));
-        inequalities.push(&below, support(i, &-across) - problem.straddle);
-        let mut above = along(i, &across, -1.0).to_vec();
-        above.push((c, 1.0));
-        inequalities.push(&above, support(i, &across) - problem.straddle);
-        // |v·p_i − c| ≤ τ: the centroid near the plates' centre line.
-        let mut near = along(i, &across, 1.0).to_vec();
-        near.push((c, -1.0));
-        inequalities.push(&near, problem.centring);
-        let mut near = along(i, &across, -1.0).to_vec();
-        near.push((c, 1.0));
-        inequalities.push(&near, problem.centring);
-        // Workspace: min + h(−e) + k ≤ p ≤ max − h(e) − k on both axes, k the edge margin (or the
-        // start's own distance from that edge, if smaller) plus 1 µm, so that neither push error nor
-        // the solver's tolerance puts a vertex outside.
-        for (dimension, unit) in [(0, Vector2::x()), (1, Vector2::y())] {
-            let column = if dimension == 0 { px(i) } else { py(i) };
-            let start = problem.starts[i][dimension];
-            let high = problem.workspace.max[dimension] - support(i, &unit);
-            let low = problem.workspace.min[dimension] + support(i, &-unit);
-            let kept = |room: f64| problem.edge.min(room.max(0.0)) + INSIDE;
-            inequalities.push(&[(column, 1.0)], high - kept(high - start));
-            inequalities.push(&[(column, -1.0)], -(low + kept(start - low)));
-        }
-    }
-    for fence in problem.fences {
-        // normal·p ≥ offset  ⇔  −normal·p ≤ −offset.
-        inequalities.push(&along(fence.member, &fence.normal, -1.0), -fence.offset);
-    }
-    let mut cones_rows = Rows::new();
-    for i in 0..k {
-        cones_rows.push(&[(t(i), -1.0)], 0.0);
-        cones_rows.push(&[(px(i), -1.0)], -problem.starts[i].x);
-        cones_rows.push(&[(py(i), -1.0)], -problem.starts[i].y);
-    }
+}
 
+/// Member `i` between the plates, near their centre line, and inside the workspace.
+fn object_rows(
+    problem: &RowProblem<'_>,
+    axis: &Vector2<f64>,
+    i: usize,
+    columns: Columns,
+    inequalities: &mut Rows,
+) {
+    let support = |d: &Vector2<f64>| problem.outlines[i].support(d);
+    let across = Vector2::new(-axis.y, axis.x);
+    let c = columns.c();
+    // v·p_i − h_i(−v) ≤ c − s   and   −v·p_i − h_i(v) ≤ −c − s.
+    let mut below = columns.along(i, &across, 1.0).to_vec();
+    below.push((c, -1.0));
+    inequalities.push(&below, support(&-across) - problem.straddle);
+    let mut above = columns.along(i, &across, -1.0).to_vec();
+    above.push((c, 1.0));
+    inequalities.push(&above, support(&across) - problem.straddle);
+    // |v·p_i − c| ≤ τ: the centroid near the plates' centre line.
+    let mut near = columns.along(i, &across, 1.0).to_vec();
+    near.push((c, -1.0));
+    inequalities.push(&near, problem.centring);
+    let mut near = columns.along(i, &across, -1.0).to_vec();
+    near.push((c, 1.0));
+    inequalities.push(&near, problem.centring);
+    // Workspace: min + h(−e) + k ≤ p ≤ max − h(e) − k on both axes, k the edge margin (or the
+    // start's own distance from that edge, if smaller) plus 1 µm, so that neither push error nor
+    // the solver's tolerance puts a vertex outside.
+    for (dimension, unit) in [(0, Vector2::x()), (1, Vector2::y())] {
+        let column = if dimension == 0 {
+            columns.px(i)
+        } else {
+            columns.py(i)
+        };
+        let start = problem.starts[i][dimension];
+        let high = problem.workspace.max[dimension] - support(&unit);
+        let low = problem.workspace.min[dimension] + support(&-unit);
+        let kept = |room: f64| problem.edge.min(room.max(0.0)) + INSIDE;
+        inequalities.push(&[(column, 1.0)], high - kept(high - start));
+        inequalities.push(&[(column, -1.0)], -(low + kept(start - low)));
+    }
+}
+
+/// Minimises `Σ t_i` subject to the three blocks of rows (equalities, inequalities, one
+/// second-order cone `t_i ≥ ‖p_i − p_i⁰‖` per member) with Clarabel.
+fn solve_program(
+    zero: &Rows,
+    inequalities: &Rows,
+    cones_rows: &Rows,
+    columns: Columns,
+) -> RowSolution {
+    let k = columns.k;
     let (mut rows, mut cols, mut values, mut rhs) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut offset = 0;
-    for block in [&zero, &inequalities, &cones_rows] {
+    for block in [zero, inequalities, cones_rows] {
         for &(r, col, v) in &block.entries {
             rows.push(offset + r);
             cols.push(col);
@@ -319,11 +398,12 @@ pub(super) fn solve_row(
         rhs.extend_from_slice(&block.rhs);
         offset += block.len();
     }
-    let a = CscMatrix::new_from_triplets(offset, columns, rows, cols, values);
-    let p = CscMatrix::zeros((columns, columns));
-    let mut q = vec![0.0; columns];
+    let count = columns.count();
+    let a = CscMatrix::new_from_triplets(offset, count, rows, cols, values);
+    let p = CscMatrix::zeros((count, count));
+    let mut q = vec![0.0; count];
     for i in 0..k {
-        q[t(i)] = 1.0;
+        q[columns.t(i)] = 1.0;
     }
     let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
     if zero.len() > 0 {
@@ -354,14 +434,14 @@ pub(super) fn solve_row(
     let solved = matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved);
     let targets: Vec<Point2<f64>> = if solved {
         (0..k)
-            .map(|i| Point2::new(solution.x[px(i)], solution.x[py(i)]))
+            .map(|i| Point2::new(solution.x[columns.px(i)], solution.x[columns.py(i)]))
             .collect()
     } else {
         Vec::new()
     };
     RowSolution {
         targets,
-        centre_line: solution.x[c],
+        centre_line: solution.x[columns.c()],
         status,
         iterations: solution.iterations,
         seconds: started.elapsed().as_secs_f64(),
