@@ -157,7 +157,7 @@ fn three_equilateral_triangles_are_handled_without_a_crash() {
 
 /// `multi.edge_margin`: a pair whose member lies within the margin of the workspace's edge is not
 /// grasped together (a failed pair grasp near the edge squeezes objects out of the workspace); the
-/// same pair farther in is.
+/// same pair farther in is. With `edge_along_plates` only the room along the plates counts.
 #[test]
 fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
     let pair_at = |x: f64| {
@@ -208,6 +208,25 @@ fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
         .validate()
         .is_err()
     );
+    // Measured along the plates only: the pair by the left edge closes along x, its plates run
+    // along y with room to spare, and is grasped together; the same pair by the bottom edge has its
+    // plates pointing at that edge, and is not.
+    let along = MultiObject::new(
+        pushmog::grasp::MultiObjectSettings {
+            edge_margin: 0.02,
+            edge_along_plates: true,
+            ..pushmog::grasp::MultiObjectSettings::default()
+        },
+        pushmog::problem::Problem::shared_default(),
+    )
+    .unwrap();
+    assert_eq!(held(&along, &near), Some(2));
+    let by_the_bottom = scene(vec![
+        object(0, square(0.03), 0.2, 0.025),
+        object(1, square(0.03), 0.231, 0.025),
+    ]);
+    assert_eq!(held(&with_margin(0.0), &by_the_bottom), Some(2));
+    assert_ne!(held(&along, &by_the_bottom), Some(2));
 }
 
 #[test]

@@ -241,7 +241,7 @@ impl MultiObject {
                 *refusals.entry("too few objects").or_default() += 1;
                 continue;
             }
-            if caught.len() >= 2 && caught.iter().any(|&i| self.near_edge(scene, i)) {
+            if caught.len() >= 2 && caught.iter().any(|&i| self.near_edge(scene, i, jaws)) {
                 *refusals.entry("near the workspace edge").or_default() += 1;
                 continue;
             }
@@ -356,15 +356,42 @@ impl MultiObject {
 const CLEARANCE_CAP: f64 = 0.05;
 
 impl MultiObject {
-    /// Whether object `index` lies within `edge_margin` of the workspace's edge.
-    fn near_edge(&self, scene: &Scene, index: usize) -> bool {
+    /// Whether object `index` lies within `edge_margin` of the workspace's edge (along the plates
+    /// of `jaws` only, with `edge_along_plates`).
+    fn near_edge(&self, scene: &Scene, index: usize, jaws: &JawPose) -> bool {
         let margin = self.settings.edge_margin;
-        margin > 0.0
-            && scene
+        if margin <= 0.0 {
+            return false;
+        }
+        let outline = scene.world_polygon(index);
+        if !self.settings.edge_along_plates {
+            return scene
                 .workspace()
-                .room(point_bounds(scene.world_polygon(index).vertices()))
+                .room(point_bounds(outline.vertices()))
                 .iter()
-                .any(|&room| room < margin)
+                .any(|&room| room < margin);
+        }
+        let axis = jaws.axis();
+        let along = Vector2::new(-axis.y, axis.x);
+        let (low, high) = (
+            scene.workspace().min_corner(),
+            scene.workspace().max_corner(),
+        );
+        outline.vertices().iter().any(|v| {
+            [along, -along].iter().any(|d| {
+                // Distance from v along d to the rectangle's boundary.
+                let reach = |p: f64, u: f64, lo: f64, hi: f64| {
+                    if u > 1e-12 {
+                        (hi - p) / u
+                    } else if u < -1e-12 {
+                        (lo - p) / u
+                    } else {
+                        f64::INFINITY
+                    }
+                };
+                reach(v.x, d.x, low.x, high.x).min(reach(v.y, d.y, low.y, high.y)) < margin
+            })
+        })
     }
 
     /// The gap between the open plates and the nearest object (capped), and whether every object
