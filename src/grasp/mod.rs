@@ -127,25 +127,6 @@ impl<'a> GraspRequest<'a> {
             ..self
         }
     }
-
-    /// Why `grasp` does not answer this request (carries too few targets, or lies where a grasp
-    /// failed before), or `None` when it does. For planners that check their answer afterwards.
-    pub fn refusal(&self, grasp: &Grasp) -> Option<String> {
-        if self.avoid.iter().any(|a| a.same_place(&grasp.jaws)) {
-            return Some("the jaws are where a grasp failed before".to_string());
-        }
-        let carried = grasp
-            .objects
-            .iter()
-            .filter(|id| self.targets.contains(id))
-            .count();
-        (carried < self.min_objects).then(|| {
-            format!(
-                "carries {carried} of the targets, fewer than the {} asked for",
-                self.min_objects
-            )
-        })
-    }
 }
 
 /// A way to choose a grasp among some target objects. A policy asks its grasp planners through

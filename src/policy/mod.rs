@@ -37,8 +37,6 @@ use serde::{Deserialize, Serialize};
 use crate::cluster::{Clusterer, Hierarchical, RowTest};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
-#[cfg(doc)]
-use crate::grasp::GraspRequest;
 use crate::grasp::{Grasp, GraspPlanner, MultiObject, SingleObject};
 use crate::plan::Plan;
 use crate::problem::Problem;
@@ -257,7 +255,7 @@ impl PolicyBuilder {
     }
 
     /// Grasp several objects at once with this planner: every multi-object grasp the policy makes,
-    /// after pushes or as the objects lie, is its answer to a [`GraspRequest`] for two or more
+    /// after pushes or as the objects lie, is its answer to a [`GraspRequest`](crate::grasp::GraspRequest) for two or more
     /// objects. The SOCP still judges its rows with the built-in planner of the settings
     /// (`socp.robust_rows`). `examples/custom_grasp_planner.rs` plugs one into push-mog-opt.
     pub fn multi_object_planner(mut self, planner: impl PolicyGraspPlanner + 'static) -> Self {

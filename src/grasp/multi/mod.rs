@@ -377,18 +377,18 @@ impl MultiObject {
             scene.workspace().min_corner(),
             scene.workspace().max_corner(),
         );
+        // Distance from coordinate p, moving at u per metre, to the interval [lo, hi]'s end.
+        let reach = |p: f64, u: f64, lo: f64, hi: f64| {
+            if u > 1e-12 {
+                (hi - p) / u
+            } else if u < -1e-12 {
+                (lo - p) / u
+            } else {
+                f64::INFINITY
+            }
+        };
         outline.vertices().iter().any(|v| {
             [along, -along].iter().any(|d| {
-                // Distance from v along d to the rectangle's boundary.
-                let reach = |p: f64, u: f64, lo: f64, hi: f64| {
-                    if u > 1e-12 {
-                        (hi - p) / u
-                    } else if u < -1e-12 {
-                        (lo - p) / u
-                    } else {
-                        f64::INFINITY
-                    }
-                };
                 reach(v.x, d.x, low.x, high.x).min(reach(v.y, d.y, low.y, high.y)) < margin
             })
         })
