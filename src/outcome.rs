@@ -72,6 +72,32 @@ impl Stats {
     }
 }
 
+/// What a planner can claim of its answers: whether one can be proven optimal, and the time after
+/// which it answers with the best found so far. Experiment logs write the abilities of each policy's
+/// planners in their header, so that a reader of a table knows which statuses its runs could have.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Abilities {
+    /// The planner's name, as [`crate::cluster::Clusterer::name`] and the other planners' give it.
+    pub name: String,
+    /// Whether an answer can carry [`Status::Optimal`].
+    pub proves_optimality: bool,
+    /// Seconds of search after which the planner answers with the best found
+    /// ([`Status::TimeLimit`]); `None`: every search runs to its end.
+    pub time_limit: Option<f64>,
+}
+
+impl Abilities {
+    /// A planner that claims no optimum and has no time limit, as heuristics.
+    pub fn heuristic(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            proves_optimality: false,
+            time_limit: None,
+        }
+    }
+}
+
 /// A planner's answer with its status and measurements.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Outcome<T> {

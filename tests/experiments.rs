@@ -492,3 +492,38 @@ fn a_label_with_commas_and_quotes_stays_one_csv_field() {
         assert_eq!(policies, [label, "push-mog"], "{text}");
     }
 }
+
+/// The header names what each policy's planners can claim: only the MILP proves an optimum, and
+/// the time limits are the settings'.
+#[test]
+fn the_log_header_says_what_each_planner_can_claim() {
+    let dir = scratch("experiment-abilities");
+    let mut config = config("ideal");
+    let text = r#"
+name = "push-mog-opt"
+label = "limited"
+settings = { milp = { time_limit = 5.0 }, socp = { time_limit = 0.5 } }
+"#;
+    config.policies.push(toml::from_str(text).unwrap());
+    let log = dir.join("log.jsonl");
+    run_experiment(&config, Path::new("."), &options(&log, (0, 1), Some(0))).unwrap();
+    let header = read_log(&log).unwrap().header;
+    let labels: Vec<&str> = header.abilities.iter().map(|a| a.policy.as_str()).collect();
+    assert_eq!(labels, ["sog", "push-mog", "limited"]);
+    let [sog, push_mog, limited] = [0, 1, 2].map(|k| &header.abilities[k].planners);
+    assert!(sog.clusterer.is_none() && sog.pusher.is_none() && sog.multi_object.is_none());
+    let hierarchical = push_mog.clusterer.as_ref().unwrap();
+    assert_eq!(hierarchical.name, "hierarchical");
+    assert!(!hierarchical.proves_optimality && hierarchical.time_limit.is_none());
+    let milp = limited.clusterer.as_ref().unwrap();
+    assert_eq!(milp.name, "milp");
+    assert!(milp.proves_optimality);
+    assert_eq!(milp.time_limit, Some(5.0));
+    let socp = limited.pusher.as_ref().unwrap();
+    assert_eq!(socp.name, "socp");
+    assert!(!socp.proves_optimality);
+    assert_eq!(socp.time_limit, Some(0.5));
+    for planners in [sog, push_mog, limited] {
+        assert!(!planners.single_object.proves_optimality);
+    }
+}

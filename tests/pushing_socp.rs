@@ -289,6 +289,57 @@ fn the_member_nearer_the_workspace_edge_is_the_one_pushed() {
 }
 
 #[test]
+fn a_flush_push_that_could_shove_a_held_member_out_is_refused() {
+    // A 20 mm square turned 45° (no face toward its neighbour, so it can only be held), its left
+    // corner 13.9 mm from the workspace's edge, and a 20 mm square 62 mm to its right. The only flush
+    // row pushes the square left until it nearly touches the corner; with `held_edge_margin` at
+    // 2 cm that push could shove the held one out of the workspace, so there is no row.
+    let mut objects = squares(0.02, &[(0.028, 0.2), (0.09, 0.2)])
+        .objects()
+        .to_vec();
+    objects[0].pose.yaw = std::f64::consts::FRAC_PI_4;
+    let scene = squares(0.02, &[]).with_objects(objects).unwrap();
+    let flush = |held_edge_margin: f64| {
+        Socp::new(
+            SocpSettings {
+                flush: true,
+                held_edge_margin,
+                ..SocpSettings::default()
+            },
+            Problem::shared_default(),
+        )
+        .unwrap()
+    };
+    let free = flush(0.0).plan(&scene, &ids(2)).unwrap();
+    assert_eq!(free.status, Status::BestFound, "{:?}", free.status);
+    let pushes = &free.value.pushes;
+    assert!(
+        !pushes.is_empty() && pushes.iter().all(|p| p.object == ObjectId(1)),
+        "{pushes:?}"
+    );
+    // The corner's room along the push, which the margin compares.
+    let room = scene
+        .world_polygon(0)
+        .vertices()
+        .iter()
+        .map(|v| scene.workspace().room_along(v, &pushes[0].direction))
+        .fold(f64::INFINITY, f64::min);
+    assert!(room > 0.01 && room < 0.02, "{room}");
+    let kept = flush(0.01).plan(&scene, &ids(2)).unwrap();
+    assert_eq!(kept.value.pushes, free.value.pushes);
+    let refused = flush(0.02).plan(&scene, &ids(2)).unwrap();
+    assert!(refused.value.pushes.is_empty(), "{:?}", refused.value);
+    assert!(
+        refused.value.skipped.iter().any(|s| s.reason
+            == SkipReason::WouldShoveOut {
+                object: ObjectId(0)
+            }),
+        "{:?}",
+        refused.value.skipped
+    );
+}
+
+#[test]
 fn rows_held_under_noise_are_grasped_by_the_multi_object_planner() {
     // With `robust_rows`, a row counts as held only when the multi-object planner's own judge (the
     // planar model on the predicted table and on copies moved by the noise, the pushed members' push

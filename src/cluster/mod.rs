@@ -24,7 +24,7 @@ mod split;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::outcome::Outcome;
+use crate::outcome::{Abilities, Outcome};
 use crate::scene::{ObjectId, Scene};
 
 pub use candidates::{Budget, clashing_pairs, compact_candidates, compact_candidates_where};
@@ -141,6 +141,11 @@ pub fn split_unrowable(
 pub trait Clusterer {
     /// A short name for logs and tables (`hierarchical`, `milp`).
     fn name(&self) -> &'static str;
+
+    /// What its answers can claim ([`Abilities`]); by default, none.
+    fn abilities(&self) -> Abilities {
+        Abilities::heuristic(self.name())
+    }
 
     /// Partitions the scene's objects into valid clusters.
     ///

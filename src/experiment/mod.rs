@@ -24,7 +24,8 @@ pub use config::{
     SweepConfig,
 };
 pub use log::{
-    Log, LogHeader, LogReader, LogRow, merge_logs, merge_logs_into, read_log, write_log,
+    Log, LogHeader, LogReader, LogRow, LoggedAbilities, merge_logs, merge_logs_into, read_log,
+    write_log,
 };
 pub use push_comparison::{
     PushComparison, PushFigures, SharedClusters, compare_pushing, push_comparison_markdown,

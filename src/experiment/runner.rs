@@ -11,8 +11,8 @@ use rayon::prelude::*;
 
 use super::config::{ExperimentConfig, RunSpec};
 use super::log::{
-    LOG_FORMAT, LOG_KIND, LogHeader, LogLock, LogRow, LogWriter, RowTiming, config_hash,
-    git_commit, machine_description, read_log,
+    LOG_FORMAT, LOG_KIND, LogHeader, LogLock, LogRow, LogWriter, LoggedAbilities, RowTiming,
+    config_hash, git_commit, machine_description, read_log,
 };
 use crate::error::{Error, Result};
 use crate::plan::{Plan, RunStatus};
@@ -36,6 +36,22 @@ pub struct RunnerOptions {
     pub limit: Option<usize>,
     /// Where to save the plan of the first run, for drawing.
     pub example_plan: Option<PathBuf>,
+}
+
+/// What each policy's planners can claim, as its settings (before any sweep) build it.
+fn abilities(config: &ExperimentConfig) -> Result<Vec<LoggedAbilities>> {
+    config
+        .policies
+        .iter()
+        .enumerate()
+        .map(|(k, entry)| {
+            let policy = entry.policy(config.policy_settings(k, None))?;
+            Ok(LoggedAbilities {
+                policy: entry.label(),
+                planners: policy.abilities(),
+            })
+        })
+        .collect()
 }
 
 /// Runs one experiment run.
@@ -197,6 +213,7 @@ pub fn run_experiment(
                 shard: [shard, shards],
                 runs: runs.len(),
                 config: config.clone(),
+                abilities: abilities(config)?,
             },
         )?
     };

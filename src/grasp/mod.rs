@@ -33,7 +33,7 @@ mod single;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::outcome::Outcome;
+use crate::outcome::{Abilities, Outcome};
 use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;
@@ -135,6 +135,11 @@ impl<'a> GraspRequest<'a> {
 pub trait GraspPlanner {
     /// A short name for logs and tables (`single-object`, `multi-object`).
     fn name(&self) -> &'static str;
+
+    /// What its answers can claim ([`Abilities`]); by default, none.
+    fn abilities(&self) -> Abilities {
+        Abilities::heuristic(self.name())
+    }
 
     /// Chooses a grasp that answers `request`; `None` (with the reason in the status) when there is
     /// none. The expected-time price reads the planner's estimate of the probability that the grasp

@@ -38,6 +38,7 @@ use crate::cluster::{Clusterer, Hierarchical, RowTest};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
 use crate::grasp::{Grasp, GraspPlanner, MultiObject, SingleObject};
+use crate::outcome::Abilities;
 use crate::plan::Plan;
 use crate::problem::Problem;
 use crate::push::{PushPlanner, Socp, TowardCentral};
@@ -204,6 +205,20 @@ pub struct Policy {
     judge: MultiObject,
     /// What every stage shares, built once from `settings`.
     problem: Arc<Problem>,
+}
+
+/// What the planners of a policy can claim of their answers ([`Policy::abilities`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PolicyAbilities {
+    /// The clusterer's, if the policy clusters.
+    pub clusterer: Option<Abilities>,
+    /// The push planner's, if the policy pushes.
+    pub pusher: Option<Abilities>,
+    /// The single-object grasp planner's.
+    pub single_object: Abilities,
+    /// The multi-object grasp planner's, if the policy grasps several objects at once.
+    pub multi_object: Option<Abilities>,
 }
 
 /// Builds a [`Policy`] from a preset, replacing any of its parts.
@@ -414,6 +429,18 @@ impl Policy {
     /// The problem every stage of the policy shares.
     pub fn problem(&self) -> &Arc<Problem> {
         &self.problem
+    }
+
+    /// What each of its planners can claim of its answers, for logs: the clusterer and push planner
+    /// where the policy has them, and the grasp planners it asks (sog asks only the single-object
+    /// one).
+    pub fn abilities(&self) -> PolicyAbilities {
+        PolicyAbilities {
+            clusterer: self.clusterer.as_ref().map(|c| c.abilities()),
+            pusher: self.pusher.as_ref().map(|p| p.abilities()),
+            single_object: self.single.abilities(),
+            multi_object: (self.kind != PolicyKind::Sog).then(|| self.multi.abilities()),
+        }
     }
 
     /// An executor that applies this policy's plans exactly, judging grasps with its grasp model.

@@ -23,7 +23,7 @@ use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::outcome::Outcome;
+use crate::outcome::{Abilities, Outcome};
 use crate::scene::{ObjectId, Pose, Scene};
 
 pub use central::{TowardCentral, TowardCentralSettings};
@@ -109,6 +109,13 @@ pub enum SkipReason {
     /// With flush pushes (`socp.flush`), no face of the object lies flat across the push with room
     /// for the fingers, so the push would turn it.
     NotFlush,
+    /// It would end against `object`, held in place and within `socp.held_edge_margin` of the
+    /// workspace's edge along the push: pushed a little too far, it shoves `object` out of the
+    /// workspace.
+    WouldShoveOut {
+        /// The object held in place near the edge.
+        object: ObjectId,
+    },
     /// Planned, but by the expected-time price (`formulations/picks-per-hour.md`) the pushes and the
     /// look after them cost more seconds than the trips they are expected to save.
     DoesNotPay {
@@ -131,6 +138,10 @@ impl std::fmt::Display for SkipReason {
             Self::WouldTip => write!(f, "it would tip over rather than slide"),
             Self::NotFlush => write!(f, "no face of it lies flat across the push"),
             Self::NoGraspAfter => write!(f, "no multi-object grasp after the pushes"),
+            Self::WouldShoveOut { object } => write!(
+                f,
+                "it would end against object {object}, held near the workspace's edge"
+            ),
             Self::DoesNotPay { saving } => {
                 write!(
                     f,
@@ -176,6 +187,11 @@ pub struct PushPlan {
 pub trait PushPlanner {
     /// A short name for logs and tables (`toward-central`, `socp`).
     fn name(&self) -> &'static str;
+
+    /// What its answers can claim ([`Abilities`]); by default, none.
+    fn abilities(&self) -> Abilities {
+        Abilities::heuristic(self.name())
+    }
 
     /// Plans the pushes for `cluster` (object ids of `scene`).
     ///

@@ -1,6 +1,6 @@
 //! The rectangular area of the table the robot clears.
 
-use nalgebra::Point2;
+use nalgebra::{Point2, Vector2};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -72,6 +72,28 @@ impl Workspace {
             self.max[0] - high.x,
             self.max[1] - high.y,
         ]
+    }
+
+    /// How far `point` may move along `direction` before it leaves the rectangle, metres:
+    /// the distance to the first edge the ray from `point` crosses, in units of `direction`'s length
+    /// (infinite for a zero direction). Negative when `point` is already past that edge.
+    pub fn room_along(&self, point: &Point2<f64>, direction: &Vector2<f64>) -> f64 {
+        // Distance from coordinate p, moving at u per metre, to the interval [lo, hi]'s end.
+        let reach = |p: f64, u: f64, lo: f64, hi: f64| {
+            if u > 1e-12 {
+                (hi - p) / u
+            } else if u < -1e-12 {
+                (lo - p) / u
+            } else {
+                f64::INFINITY
+            }
+        };
+        reach(point.x, direction.x, self.min[0], self.max[0]).min(reach(
+            point.y,
+            direction.y,
+            self.min[1],
+            self.max[1],
+        ))
     }
 
     /// How far `point` lies outside the rectangle, metres (0 inside).

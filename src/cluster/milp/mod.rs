@@ -39,7 +39,7 @@ use super::solved::Solved;
 use super::{Clusterer, Clustering};
 use super::{ROW_GAP, admits_row, split_unrowable};
 use crate::error::Result;
-use crate::outcome::{Outcome, Stats, Status};
+use crate::outcome::{Abilities, Outcome, Stats, Status};
 use crate::problem::Problem;
 use crate::push::flush::{PairRow, admits_flush_pair};
 use crate::scene::Scene;
@@ -334,6 +334,15 @@ impl Milp {
 impl Clusterer for Milp {
     fn name(&self) -> &'static str {
         "milp"
+    }
+
+    /// Proves its optimum when `mip_gap` is 0; stops at `time_limit`.
+    fn abilities(&self) -> Abilities {
+        Abilities {
+            name: self.name().to_string(),
+            proves_optimality: self.settings.mip_gap == 0.0,
+            time_limit: Some(self.settings.time_limit),
+        }
     }
 
     fn cluster(&self, scene: &Scene) -> Result<Outcome<Clustering>> {

@@ -17,6 +17,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::config::ExperimentConfig;
+use crate::policy::PolicyAbilities;
 
 /// Identifies the log format.
 pub const LOG_KIND: &str = "pushmog-experiment-log";
@@ -44,6 +45,20 @@ pub struct LogHeader {
     pub runs: usize,
     /// The effective configuration (every default filled in).
     pub config: ExperimentConfig,
+    /// What each policy's planners can claim of their answers (can they prove an optimum, do they
+    /// stop at a time limit), in the order of `config.policies`; empty in logs written before it
+    /// was recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub abilities: Vec<LoggedAbilities>,
+}
+
+/// One policy's planners' abilities, by its label.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoggedAbilities {
+    /// The policy's label.
+    pub policy: String,
+    /// Its planners'.
+    pub planners: PolicyAbilities,
 }
 
 /// Wall-clock measurements of a run, seconds (not reproducible).

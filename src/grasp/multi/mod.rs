@@ -373,24 +373,11 @@ impl MultiObject {
         }
         let axis = jaws.axis();
         let along = Vector2::new(-axis.y, axis.x);
-        let (low, high) = (
-            scene.workspace().min_corner(),
-            scene.workspace().max_corner(),
-        );
-        // Distance from coordinate p, moving at u per metre, to the interval [lo, hi]'s end.
-        let reach = |p: f64, u: f64, lo: f64, hi: f64| {
-            if u > 1e-12 {
-                (hi - p) / u
-            } else if u < -1e-12 {
-                (lo - p) / u
-            } else {
-                f64::INFINITY
-            }
-        };
+        let workspace = scene.workspace();
         outline.vertices().iter().any(|v| {
-            [along, -along].iter().any(|d| {
-                reach(v.x, d.x, low.x, high.x).min(reach(v.y, d.y, low.y, high.y)) < margin
-            })
+            [along, -along]
+                .iter()
+                .any(|d| workspace.room_along(v, d) < margin)
         })
     }
 

@@ -55,7 +55,7 @@ pub use settings::SocpSettings;
 use super::{PushPlan, PushPlanner};
 use crate::error::Result;
 use crate::grasp::{Memory, MultiObject};
-use crate::outcome::Outcome;
+use crate::outcome::{Abilities, Outcome};
 use crate::problem::Problem;
 use crate::scene::{ObjectId, Scene};
 
@@ -116,6 +116,14 @@ impl Socp {
 impl PushPlanner for Socp {
     fn name(&self) -> &'static str {
         "socp"
+    }
+
+    /// The best of the axes and orders sampled, never proven; stops at `time_limit` if set.
+    fn abilities(&self) -> Abilities {
+        Abilities {
+            time_limit: self.settings.time_limit,
+            ..Abilities::heuristic(self.name())
+        }
     }
 
     fn plan(&self, scene: &Scene, cluster: &[ObjectId]) -> Result<Outcome<PushPlan>> {

@@ -74,6 +74,13 @@ pub struct SocpSettings {
     /// the two allow and the jaws have room on both sides, instead of the row just fitting the
     /// jaws less the margin, as the least push would leave it.
     pub flush_gap: f64,
+    /// Least room, metres, along each push of a row between the workspace's edge and a member held
+    /// in place ahead of the pushed one. A push that ends a little past its target (or against a
+    /// neighbour seen a little off its place) shoves the held member on, out of the workspace if
+    /// it lies at the edge; rows that would are refused (the other member may be pushed instead).
+    /// Default 0 (no such check): `formulations/picks-per-hour.md`, "Objects near the edge".
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub held_edge_margin: f64,
     /// Longest a search for one cluster may run, seconds, checked before each row is solved. When
     /// it ends the search, the cheapest row found so far is the answer with status `time_limit`
     /// (and none found: a failed status saying so). Default none: every axis and order is tried,
@@ -100,6 +107,7 @@ impl Default for SocpSettings {
             flush_margin: 0.002,
             flush_cone: 0.19,
             flush_gap: 0.003,
+            held_edge_margin: 0.0,
             time_limit: None,
         }
     }
@@ -123,7 +131,7 @@ impl SocpSettings {
         for (field, value, range, why) in counts {
             crate::error::count_in_range("socp", field, value, range, why)?;
         }
-        let lengths: [(&str, f64, (f64, f64)); 9] = [
+        let lengths: [(&str, f64, (f64, f64)); 10] = [
             ("margin", self.margin, (0.0, 0.05)),
             ("gap", self.gap, (0.0, 0.02)),
             ("straddle", self.straddle, (0.0, 0.05)),
@@ -133,6 +141,7 @@ impl SocpSettings {
             ("neighbourhood", self.neighbourhood, (0.0, 2.0)),
             ("flush_margin", self.flush_margin, (0.0, 0.02)),
             ("flush_gap", self.flush_gap, (0.0, 0.05)),
+            ("held_edge_margin", self.held_edge_margin, (0.0, 0.05)),
         ];
         for (field, value, range) in lengths {
             crate::error::in_range("socp", field, value, range, "metres, within a jaw's reach")?;
@@ -154,4 +163,10 @@ impl SocpSettings {
             "radians off a face's normal; beyond atan 0.6 (31°) the pads slip on any known surface",
         )
     }
+}
+
+/// Whether a length is zero: such settings are left out of written settings, so logs and plans
+/// written before them read and hash as they did.
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
 }

@@ -7,6 +7,7 @@ use super::{Attempt, EQUAL_TIME, Realised, Refusal, Search};
 use crate::push::row::{Motion, RowSolution};
 use crate::push::socp::rows::intended_grasp;
 use crate::push::{Push, PushPlan, SkipReason, SkippedPush};
+use crate::scene::ObjectId;
 
 impl Search<'_> {
     /// Turns a solved row into pushes: targets held where members barely move (solving again with
@@ -103,6 +104,9 @@ impl Search<'_> {
         )?;
         let (pushes, targets, centre_line) =
             self.fewer_pushes((axis, order), base, &fixed, realised);
+        if let Some((pushed, held)) = self.shoves_out(&pushes, &targets) {
+            return Err((pushed, SkipReason::WouldShoveOut { object: held }));
+        }
         let skipped = (0..members.len())
             .filter(|&m| targets[m] == starts[m])
             .map(|m| SkippedPush {
@@ -174,6 +178,7 @@ impl Search<'_> {
         };
         let mut best = seconds(&pushes);
         let mut best_room = held_room(&targets);
+        let mut best_shoves = self.shoves_out(&pushes, &targets).is_some();
         let mut chosen = (pushes, targets, centre_line);
         for m in 0..members.len() {
             if fixed[m] || chosen.1[m] == starts[m] {
@@ -196,16 +201,46 @@ impl Search<'_> {
             };
             let time = seconds(&fewer.0);
             let room = held_room(&fewer.1);
+            let shoves = self.shoves_out(&fewer.0, &fewer.1).is_some();
             let as_fast = (time - best).abs() <= EQUAL_TIME;
             let better = time < best - EQUAL_TIME
                 || (as_fast && room > best_room + 1e-9)
                 || (as_fast && (room - best_room).abs() <= 1e-9 && time < best - 1e-9);
-            if better {
+            // A row that shoves no held member out comes first, then the fastest.
+            if (best_shoves && !shoves) || (shoves == best_shoves && better) {
                 best = time;
                 best_room = room;
+                best_shoves = shoves;
                 chosen = fewer;
             }
         }
         chosen
+    }
+
+    /// A push of the row and a member held in place ahead of it (its centroid further along the
+    /// push than the pushed one's start) with less than `held_edge_margin` between its outline and the
+    /// workspace's edge along that push: the ids of the pushed and the held object.
+    fn shoves_out(&self, pushes: &[Push], targets: &[Point2<f64>]) -> Option<(ObjectId, ObjectId)> {
+        let margin = self.socp.settings.held_edge_margin;
+        if margin <= 0.0 {
+            return None;
+        }
+        let (scene, members, starts) = (self.scene, &self.members, &self.starts);
+        let workspace = scene.workspace();
+        let id = |m: usize| scene.objects()[members[m]].id;
+        pushes.iter().find_map(|push| {
+            let pushed = (0..members.len()).find(|&m| id(m) == push.object)?;
+            (0..members.len())
+                .filter(|&m| targets[m] == starts[m])
+                .find(|&m| {
+                    (starts[m] - starts[pushed]).dot(&push.direction) > 0.0
+                        && scene
+                            .world_polygon(members[m])
+                            .vertices()
+                            .iter()
+                            .any(|v| workspace.room_along(v, &push.direction) < margin)
+                })
+                .map(|held| (push.object, id(held)))
+        })
     }
 }
