@@ -67,7 +67,8 @@ fn baselines(c: &mut Criterion) {
         });
     }
     let timed: PolicySettings = serde_json::from_str(
-        r#"{"socp": {"flush": true},
+        r#"{"socp": {"flush": true, "held_edge_margin": 0.02},
+            "multi": {"edge_margin": 0.02, "edge_along_plates": true},
             "pricing": {"objective": "expected_time", "push_ahead": true}}"#,
     )
     .unwrap();
