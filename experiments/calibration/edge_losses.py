@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Measures how far objects move in the two ways push-mog-time loses them past the workspace's edge
-(formulations/picks-per-hour.md, "Objects near the edge").
+(formulations/picks-per-hour.md, "How objects were lost without the margins").
 
 Runs push-mog-opt with the given settings (default: experiments/push-mog-time.json) in the
 simulator with noise on generated scenes, and reads two displacements from the plans, each between
@@ -15,7 +15,8 @@ An object lost from the workspace has no next observation; it is counted apart, 
 (distance from its outline to the edge along the plates, or along the push) before the trip.
 
     cargo build --release
-    python3 experiments/calibration/edge_losses.py --first 7001 --count 150
+    python3 experiments/calibration/edge_losses.py --first 7001 --count 150   # push-mog-time
+    python3 experiments/calibration/edge_losses.py --settings no-margins.json  # other settings
 
 Standard library only; the plans go to a temporary folder.
 """
