@@ -218,8 +218,8 @@ impl Search<'_> {
     }
 
     /// A push of the row and a member held in place ahead of it (its centroid further along the
-    /// push than the pushed one's start) with less than `held_edge_margin` between its outline and the
-    /// workspace's edge along that push: the ids of the pushed and the held object.
+    /// push than the pushed one's start) with less than `held_edge_margin` between its outline
+    /// and the workspace's edge along that push: the ids of the pushed and the held object.
     fn shoves_out(&self, pushes: &[Push], targets: &[Point2<f64>]) -> Option<(ObjectId, ObjectId)> {
         let margin = self.socp.settings.held_edge_margin;
         if margin <= 0.0 {
