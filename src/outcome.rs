@@ -78,7 +78,7 @@ impl Stats {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Abilities {
-    /// The planner's name, as [`crate::cluster::Clusterer::name`] and the other planners' give it.
+    /// The planner's name, as its `name()` gives it (`milp`, `socp`, `multi-object`, …).
     pub name: String,
     /// Whether an answer can carry [`Status::Optimal`].
     pub proves_optimality: bool,
