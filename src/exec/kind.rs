@@ -14,6 +14,7 @@ use crate::error::{Error, Result};
     Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
 )]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum ExecutorKind {
     /// Plans applied exactly.
     #[default]

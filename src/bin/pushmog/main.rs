@@ -10,6 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use pushmog::exec::ExecutorKind;
 
 /// Plans fork pushes and multi-object grasps that clear a table of convex polygons in few trips.
 #[derive(Parser, Debug)]
@@ -147,9 +148,9 @@ struct RunArgs {
     /// Policy.
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
-    /// Executor: ideal (plans applied exactly) or sim (rapier3d physics).
-    #[arg(long, default_value = "ideal", value_parser = ["ideal", "sim"])]
-    executor: String,
+    /// Executor.
+    #[arg(long, value_enum, default_value_t = ExecutorKind::Ideal)]
+    executor: ExecutorKind,
     /// Simulator settings as JSON (fields not given keep their defaults; `pushmog schema sim`).
     #[arg(long)]
     sim_settings: Option<PathBuf>,
@@ -210,9 +211,9 @@ struct ExecuteArgs {
 struct ClusterArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
-    /// Clusterer: hierarchical or milp.
-    #[arg(long, default_value = "milp")]
-    method: String,
+    /// Clusterer.
+    #[arg(long, value_enum, default_value_t = ClusterMethod::Milp)]
+    method: ClusterMethod,
     /// Settings of the clusterer as JSON (fields not given keep their defaults).
     #[arg(long, conflicts_with = "policy_settings")]
     settings: Option<PathBuf>,
@@ -340,6 +341,15 @@ struct RenderArgs {
     /// Draw each object's narrowest grasp.
     #[arg(long)]
     grasp_diameters: bool,
+}
+
+/// The clusterers `pushmog cluster --method` offers.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum ClusterMethod {
+    /// The clustering MILP (proven optimal unless a time limit or gap stops it).
+    Milp,
+    /// The paper's hierarchical clustering (a heuristic).
+    Hierarchical,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]

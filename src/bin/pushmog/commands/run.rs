@@ -1,14 +1,14 @@
 //! `plan`, `run` and `cluster`: a policy or a clusterer on one scene.
 
 use pushmog::cluster::{Clusterer, Hierarchical, HierarchicalSettings, Milp, MilpSettings};
-use pushmog::error::{Error, Result};
-use pushmog::exec::{ExecutorKind, SimSettings};
+use pushmog::error::Result;
+use pushmog::exec::SimSettings;
 use pushmog::json;
 use pushmog::policy::PolicySettings;
 use pushmog::problem::Problem;
 use pushmog::render::{RenderOptions, replay_html};
 
-use crate::{ClusterArgs, PlanArgs, RunArgs};
+use crate::{ClusterArgs, ClusterMethod, PlanArgs, RunArgs};
 
 use super::io::{policy, read_scene, settings_or_default, summary, write_output};
 
@@ -29,8 +29,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if args.noiseless {
         sim = SimSettings::noiseless_from(&sim);
     }
-    let kind: ExecutorKind = args.executor.parse()?;
-    let mut executor = kind.build(policy.problem(), sim, args.seed)?;
+    let mut executor = args.executor.build(policy.problem(), sim, args.seed)?;
     let plan = policy.run(&scene, executor.as_mut(), args.seed)?;
     if let Some(path) = &args.plan {
         json::write_text(path, &plan.to_json())?;
@@ -54,8 +53,8 @@ pub fn cluster(args: &ClusterArgs) -> Result<()> {
         }
         None => None,
     };
-    let outcome = match args.method.as_str() {
-        "milp" => {
+    let outcome = match args.method {
+        ClusterMethod::Milp => {
             let milp = match &policy {
                 Some(policy) => policy.milp_clusterer(policy.problem()?, policy.row_test())?,
                 None => Milp::new(
@@ -65,19 +64,12 @@ pub fn cluster(args: &ClusterArgs) -> Result<()> {
             };
             milp.cluster(&scene)?
         }
-        "hierarchical" => {
+        ClusterMethod::Hierarchical => {
             let hierarchical = match &policy {
                 Some(policy) => policy.clustering.clone(),
                 None => settings_or_default::<HierarchicalSettings>(settings)?,
             };
             Hierarchical::new(hierarchical)?.cluster(&scene)?
-        }
-        other => {
-            return Err(Error::field(
-                "cluster",
-                "--method",
-                format!("unknown clusterer `{other}`; choose hierarchical or milp"),
-            ));
         }
     };
     for (k, cluster) in outcome.value.clusters.iter().enumerate() {
