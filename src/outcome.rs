@@ -38,6 +38,20 @@ impl Status {
         matches!(self, Self::Optimal)
     }
 
+    /// The name in files (`optimal`, `best_found`, `time_limit`, …), as serde writes it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Heuristic => "heuristic",
+            Self::Optimal => "optimal",
+            Self::BestFound => "best_found",
+            Self::Feasible => "feasible",
+            Self::TimeLimit => "time_limit",
+            Self::NodeLimit => "node_limit",
+            Self::Infeasible => "infeasible",
+            Self::Failed { .. } => "failed",
+        }
+    }
+
     /// Whether the planner gave a valid answer (every status but [`Status::Infeasible`] and
     /// [`Status::Failed`]).
     pub fn has_answer(&self) -> bool {
@@ -134,5 +148,14 @@ mod tests {
         );
         let answered: Vec<bool> = all.iter().map(Status::has_answer).collect();
         assert_eq!(answered, [true, true, true, true, true, true, false, false]);
+        for status in &all {
+            let written = serde_json::to_value(status).unwrap();
+            let key = match &written {
+                serde_json::Value::String(name) => name.clone(),
+                serde_json::Value::Object(map) => map.keys().next().unwrap().clone(),
+                other => panic!("{other}"),
+            };
+            assert_eq!(status.name(), key);
+        }
     }
 }

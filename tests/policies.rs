@@ -410,6 +410,7 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
             judged: trip.judged,
             ahead: trip.ahead,
             ahead_rows: trip.ahead_rows,
+            push_statuses: trip.push_statuses,
             carried,
             fault: None,
             lost: Vec::new(),
@@ -560,6 +561,43 @@ fn plan_files_are_compact_and_read_back_exactly() {
     assert!(back == plan);
     assert!(text.contains("scene_change"));
     assert!(plan.trips.iter().any(|t| !t.looks.is_empty()));
+}
+
+/// Each trip records the push planner's status for each answer whose pushes it made: the SOCP's
+/// `best_found` for push-mog-opt (or `heuristic` for a push that only separates two objects), the
+/// paper's `heuristic` for push-mog, nothing for a trip without pushes. The statuses survive the
+/// plan file, and the run's counts add them up; a plan written before they were recorded reads
+/// with none.
+#[test]
+fn each_trip_records_the_status_of_the_pushes_it_made() {
+    for (kind, allowed) in [
+        (PolicyKind::PushMogOpt, &["best_found", "heuristic"][..]),
+        (PolicyKind::PushMog, &["heuristic"][..]),
+    ] {
+        let plan = run(kind, &scene(3), 4);
+        assert!(plan.trips.iter().any(|t| !t.pushes.is_empty()));
+        for trip in &plan.trips {
+            assert_eq!(trip.pushes.is_empty(), trip.push_statuses.is_empty());
+            assert!(trip.push_statuses.len() <= trip.pushes.len());
+            for status in &trip.push_statuses {
+                assert!(allowed.contains(&status.name()), "{kind:?}: {status:?}");
+            }
+        }
+        let counts = plan.push_statuses();
+        assert!(counts.get(allowed[0]).is_some_and(|&n| n > 0));
+        let total: usize = plan.trips.iter().map(|t| t.push_statuses.len()).sum();
+        assert_eq!(counts.values().sum::<usize>(), total);
+        let text = plan.to_json();
+        let back: Plan = pushmog::json::from_json(&text, "plan").unwrap();
+        assert!(back == plan);
+        let mut old: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for trip in old["trips"].as_array_mut().unwrap() {
+            trip.as_object_mut().unwrap().remove("push_statuses");
+        }
+        let old: Plan = serde_json::from_value(old).unwrap();
+        assert!(old.push_statuses().is_empty());
+        assert_eq!(old.trips.len(), plan.trips.len());
+    }
 }
 
 /// The first of seeds 0–19 whose scene's first trip (context seeded alike) is `wanted`: its table,

@@ -140,6 +140,13 @@ class TripPlan:
         return self._trip.get("judged")
 
     @property
+    def push_statuses(self) -> list:
+        """The push planner's status for each answer whose pushes this trip makes, in order:
+        ``"best_found"`` for the SOCP's search, ``"time_limit"`` when its time limit cut the search
+        short, ``"heuristic"`` for the paper's pushes; empty without pushes."""
+        return [s if isinstance(s, str) else next(iter(s)) for s in self._trip.get("push_statuses", [])]
+
+    @property
     def ahead(self) -> list:
         """Objects this trip pushes into rows for later trips (``pricing.push_ahead``): after such
         pushes no look is made in the trip; the next trip's look shows the rows."""

@@ -15,10 +15,10 @@ import pushmog
 
 
 def trip_fields(trip: dict) -> dict:
-    """A run record's trip without what the executor reports (``judged``, ``ahead`` and
-    ``ahead_rows`` only when the plan has them, as in plan files)."""
+    """A run record's trip without what the executor reports (``judged``, ``ahead``,
+    ``ahead_rows`` and ``push_statuses`` only when the plan has them, as in plan files)."""
     keys = ("clustering", "cluster", "pushes", "skipped_pushes", "grasp", "judged", "ahead",
-            "ahead_rows")
+            "ahead_rows", "push_statuses")
     return {k: trip[k] for k in keys if k in trip}
 
 
@@ -269,3 +269,16 @@ def test_a_trip_says_whether_its_clustering_was_proven_optimal():
         for policy in ("sog", "push-mog", "push-mog-opt")
     }
     assert statuses == {"sog": None, "push-mog": "heuristic", "push-mog-opt": "optimal"}
+
+
+@pytest.mark.parametrize("policy, allowed", [("push-mog", {"heuristic"}), ("push-mog-opt", {"best_found", "heuristic"})])
+def test_a_trip_says_how_its_pushes_were_planned(scene, policy, allowed):
+    """One push-planner status per answer whose pushes the trip makes; none without pushes."""
+    planner = pushmog.Planner(policy)
+    trips = [planner.plan_trip(scene, pushmog.TripContext(seed)) for seed in range(8)]
+    pushed = [t for t in trips if t is not None and t.pushes]
+    assert pushed
+    for trip in trips:
+        assert trip is not None
+        assert bool(trip.push_statuses) == bool(trip.pushes)
+        assert set(trip.push_statuses) <= allowed

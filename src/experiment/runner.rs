@@ -102,6 +102,7 @@ pub fn run_one(
         landings: plan.landings(),
         failed_attempts: plan.failed_attempts.len(),
         unproven_clusterings: plan.unproven_clusterings(),
+        push_statuses: plan.push_statuses(),
         cleared,
         stop_reason,
         remaining,

@@ -24,6 +24,7 @@ use super::shared::{Lookup, SharedScene};
 use super::{AheadRow, Fault, Look, LostObject, Trip};
 use crate::cluster::Clustering;
 use crate::grasp::Grasp;
+use crate::outcome::Status;
 use crate::push::{Push, SkippedPush};
 use crate::scene::{ObjectId, ObjectSpec, Pose, SceneSpec};
 
@@ -80,6 +81,9 @@ pub struct TripRecord {
     /// As [`Trip::ahead_rows`].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead_rows: Vec<AheadRow>,
+    /// As [`Trip::push_statuses`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub push_statuses: Vec<Status>,
     /// As [`Trip::carried`].
     pub carried: Vec<ObjectId>,
     /// As [`Trip::fault`].
@@ -191,6 +195,7 @@ fn record(trips: &[Trip], k: usize) -> TripRecord {
         judged: trip.judged,
         ahead: trip.ahead.clone(),
         ahead_rows: trip.ahead_rows.clone(),
+        push_statuses: trip.push_statuses.clone(),
         carried: trip.carried.clone(),
         fault: trip.fault,
         lost: trip.lost.clone(),
@@ -267,6 +272,7 @@ fn trip(
         judged: record.judged,
         ahead: record.ahead,
         ahead_rows: record.ahead_rows,
+        push_statuses: record.push_statuses,
         carried: record.carried,
         fault: record.fault,
         lost: record.lost,

@@ -57,6 +57,12 @@ pub struct Trip {
     /// judged probability (absent in plans written before rows were recorded).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead_rows: Vec<AheadRow>,
+    /// The push planner's status for each of its answers whose pushes the trip made, in order:
+    /// the trip's first plan's (the policy's `TripPlan::push_statuses`), then one per look whose
+    /// corrective pushes were made. Empty without pushes and in plans written before statuses
+    /// were recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub push_statuses: Vec<Status>,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
     /// Set when an action was stopped because the gripper came down on an object; the rest of the
@@ -257,6 +263,17 @@ impl Plan {
             .filter_map(|t| t.clustering.status.as_ref())
             .collect();
         (!statuses.is_empty()).then(|| statuses.iter().filter(|s| !s.is_proven()).count())
+    }
+
+    /// How many of the push planner's answers whose pushes were made had each status (by
+    /// [`Status::name`]), over all trips; empty without pushes or in plans written before push
+    /// statuses were recorded.
+    pub fn push_statuses(&self) -> std::collections::BTreeMap<String, usize> {
+        let mut counts = std::collections::BTreeMap::new();
+        for status in self.trips.iter().flat_map(|t| &t.push_statuses) {
+            *counts.entry(status.name().to_string()).or_insert(0) += 1;
+        }
+        counts
     }
 
     /// Fork pushes made over all trips.

@@ -30,6 +30,7 @@ use super::{grasp_path, push_paths};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::grasp::{Grasp, GraspRequest};
+use crate::outcome::Status;
 use crate::plan::AheadRow;
 use crate::push::{Push, SkippedPush, predict};
 use crate::scene::{ObjectId, Scene};
@@ -45,6 +46,7 @@ struct Batch {
     rows: Vec<Vec<ObjectId>>,
     members: Vec<Vec<ObjectId>>,
     judged: Vec<f64>,
+    statuses: Vec<Status>,
     standing: Grasp,
     skipped: Vec<SkippedPush>,
 }
@@ -78,6 +80,7 @@ impl Policy {
             judged: None,
             ahead: Vec::new(),
             ahead_rows: Vec::new(),
+            push_statuses: Vec::new(),
         };
         // Rows pushed before still wait for their grasps: the next rows are pushed together once
         // none waits.
@@ -171,6 +174,7 @@ impl Policy {
             judged: batch.judged.first().copied(),
             ahead,
             ahead_rows,
+            push_statuses: batch.statuses,
         }))
     }
 
@@ -192,6 +196,7 @@ impl Policy {
             rows: Vec::new(),
             members: Vec::new(),
             judged: Vec::new(),
+            statuses: Vec::new(),
             standing: grasp.clone(),
             skipped: Vec::new(),
         };
@@ -218,7 +223,7 @@ impl Policy {
                 (1, false, Some((&batch.pushes, &batch.standing))),
             )?;
             batch.skipped.extend(why_not);
-            let Some((more, later, judged)) = pushed else {
+            let Some((more, later, judged, status)) = pushed else {
                 continue;
             };
             let touches = |id: &ObjectId| taken.contains(id);
@@ -239,6 +244,7 @@ impl Policy {
             batch.rows.push(later.objects);
             batch.members.push(members.clone());
             batch.judged.push(judged);
+            batch.statuses.push(status);
         }
         Ok(batch)
     }

@@ -2,10 +2,11 @@
 //! ([`Policy::correct_trip`]): the closed loop (`run.rs`) calls it after every round of pushes, and
 //! so can a robot stack that owns its loop.
 
+use super::trip::Drafted;
 use super::{Policy, TripContext, TripPlan};
 use crate::error::Result;
-use crate::grasp::{Grasp, GraspRequest};
-use crate::push::{Push, SkippedPush};
+use crate::grasp::GraspRequest;
+use crate::push::SkippedPush;
 use crate::scene::{ObjectId, Scene};
 
 impl Policy {
@@ -46,7 +47,7 @@ impl Policy {
             .filter(|&id| observed.index_of(id).is_some())
             .collect();
         let next =
-            |pushes: Vec<Push>, skipped_pushes: Vec<SkippedPush>, grasp: Grasp, judged| TripPlan {
+            |(pushes, grasp, judged, status): Drafted, skipped_pushes: Vec<SkippedPush>| TripPlan {
                 clustering: trip.clustering.clone(),
                 cluster: trip.cluster,
                 pushes,
@@ -55,6 +56,7 @@ impl Policy {
                 judged,
                 ahead: Vec::new(),
                 ahead_rows: Vec::new(),
+                push_statuses: status.into_iter().collect(),
             };
         let mut skipped = Vec::new();
         if members.len() >= 2 {
@@ -67,7 +69,7 @@ impl Policy {
             let as_it_lies = outcome.value.filter(|g| context.together(g));
             let taken = as_it_lies.as_ref().map_or(0, |g| g.objects.len());
             if taken == members.len() {
-                return Ok(as_it_lies.map(|grasp| next(Vec::new(), skipped, grasp, None)));
+                return Ok(as_it_lies.map(|grasp| next((Vec::new(), grasp, None, None), skipped)));
             }
             // Fewer objects than the cluster has can be taken as it lies (a row of three or more
             // broken by the pushes): corrective pushes come first when their grasp takes more.
@@ -80,14 +82,17 @@ impl Policy {
                     (taken.max(1), true, None),
                 )?;
                 skipped = why_not;
-                if let Some((pushes, grasp, judged)) =
-                    pushed.filter(|(_, g, _)| g.objects.len() > taken)
+                if let Some((pushes, grasp, judged, status)) =
+                    pushed.filter(|(_, g, ..)| g.objects.len() > taken)
                 {
-                    return Ok(Some(next(pushes, skipped, grasp, Some(judged))));
+                    return Ok(Some(next(
+                        (pushes, grasp, Some(judged), Some(status)),
+                        skipped,
+                    )));
                 }
             }
             if let Some(grasp) = as_it_lies {
-                return Ok(Some(next(Vec::new(), skipped, grasp, None)));
+                return Ok(Some(next((Vec::new(), grasp, None, None), skipped)));
             }
         }
         if let Some(grasp) = self
@@ -95,13 +100,13 @@ impl Policy {
             .plan_request(&GraspRequest::new(observed, &members).avoiding(avoid))?
             .value
         {
-            return Ok(Some(next(Vec::new(), skipped, grasp, None)));
+            return Ok(Some(next((Vec::new(), grasp, None, None), skipped)));
         }
         let everything: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
         Ok(self
             .single
             .plan_request(&GraspRequest::new(observed, &everything).avoiding(avoid))?
             .value
-            .map(|grasp| next(Vec::new(), skipped, grasp, None)))
+            .map(|grasp| next((Vec::new(), grasp, None, None), skipped)))
     }
 }

@@ -132,6 +132,7 @@ impl<'a> Run<'a> {
             judged: trip.judged,
             ahead: trip.ahead.clone(),
             ahead_rows: trip.ahead_rows.clone(),
+            push_statuses: trip.push_statuses.clone(),
             carried: Vec::new(),
             fault: None,
             lost: Vec::new(),
@@ -182,6 +183,9 @@ impl<'a> Run<'a> {
                 scene: SharedScene::sharing(after.to_spec(), Some(&record.scene)),
             });
             record.pushes.extend(next.pushes.iter().cloned());
+            record
+                .push_statuses
+                .extend(next.push_statuses.iter().cloned());
             record.grasp = next.grasp.clone();
             current = next;
             self.refuse_unless_verified(&record)?;

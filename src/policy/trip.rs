@@ -59,11 +59,21 @@ pub struct TripPlan {
     /// probability for the grasp a later trip is to make of it (the first row's is `judged`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ahead_rows: Vec<AheadRow>,
+    /// The status of each push planner answer whose pushes the trip makes, in order (one per row
+    /// pushed ahead): [`Status::BestFound`] for the SOCP's search, [`Status::TimeLimit`] when its
+    /// `time_limit` cut it short, [`Status::Heuristic`] for the paper's pushes and for a push that
+    /// only separates two objects. Empty without pushes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub push_statuses: Vec<Status>,
 }
 
-/// Pushes to make, in order, the grasp planned on the table predicted after them, and the grasp
-/// planner's estimate of its probability.
-type PushesThenGrasp = (Vec<Push>, Grasp, f64);
+/// Pushes to make, in order, the grasp planned on the table predicted after them, the grasp
+/// planner's estimate of its probability, and the push planner's status for those pushes.
+type PushesThenGrasp = (Vec<Push>, Grasp, f64, Status);
+
+/// What a trip plan is drafted from: its pushes, its grasp, the grasp's judged probability and
+/// the push planner's status (both `None` without pushes).
+pub(super) type Drafted = (Vec<Push>, Grasp, Option<f64>, Option<Status>);
 
 impl Policy {
     /// Plans the next trip on `scene` as it is, with a fresh [`TripContext`] of seed 0: the pushes
@@ -155,6 +165,7 @@ impl Policy {
                         judged: None,
                         ahead: Vec::new(),
                         ahead_rows: Vec::new(),
+                        push_statuses: Vec::new(),
                     }));
                 }
                 None if reason.is_empty() => {
@@ -212,16 +223,18 @@ impl Policy {
         let chosen = candidates[context.rng.index(candidates.len())];
         let avoid = &context.failed;
         let members = clustering.clusters[chosen].clone();
-        let draft = |pushes: Vec<Push>, skipped: Vec<SkippedPush>, grasp: Grasp, judged| TripPlan {
-            clustering: clustering.clone(),
-            cluster: Some(chosen),
-            pushes,
-            skipped_pushes: skipped,
-            grasp,
-            judged,
-            ahead: Vec::new(),
-            ahead_rows: Vec::new(),
-        };
+        let draft =
+            |(pushes, grasp, judged, status): Drafted, skipped: Vec<SkippedPush>| TripPlan {
+                clustering: clustering.clone(),
+                cluster: Some(chosen),
+                pushes,
+                skipped_pushes: skipped,
+                grasp,
+                judged,
+                ahead: Vec::new(),
+                ahead_rows: Vec::new(),
+                push_statuses: status.into_iter().collect(),
+            };
         let mut skipped = Vec::new();
         if let Some(pusher) = self.pusher.as_deref()
             && members.len() > 1
@@ -230,8 +243,11 @@ impl Policy {
             let (pushed, why_not) =
                 self.push_draft(pusher, observed, &members, context, (1, look, None))?;
             skipped = why_not;
-            if let Some((pushes, grasp, judged)) = pushed {
-                return Ok(Ok(draft(pushes, skipped, grasp, Some(judged))));
+            if let Some((pushes, grasp, judged, status)) = pushed {
+                return Ok(Ok(draft(
+                    (pushes, grasp, Some(judged), Some(status)),
+                    skipped,
+                )));
             }
         }
         // As the cluster lies: a multi-object grasp of two or more, else one object by itself (jaws
@@ -242,19 +258,20 @@ impl Policy {
                 .several(),
         )?;
         if let Some(grasp) = outcome.value.filter(|g| context.together(g)) {
-            return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
+            return Ok(Ok(draft((Vec::new(), grasp, None, None), skipped)));
         }
         let single = self
             .single
             .plan_request(&GraspRequest::new(observed, &members).avoiding(avoid))?;
         if let Some(grasp) = single.value {
-            return Ok(Ok(draft(Vec::new(), skipped, grasp, None)));
+            return Ok(Ok(draft((Vec::new(), grasp, None, None), skipped)));
         }
         // Members too close to be taken alone or together: push one clear of its neighbour.
         if self.pusher.is_some()
             && let Some((push, grasp)) = self.separate(observed, &members, avoid)?
         {
-            return Ok(Ok(draft(vec![push], skipped, grasp, None)));
+            let separating = (vec![push], grasp, None, Some(Status::Heuristic));
+            return Ok(Ok(draft(separating, skipped)));
         }
         Ok(Err(format!(
             "cluster {:?}: {}",
@@ -281,7 +298,7 @@ impl Policy {
         (taken, look, then): (usize, bool, Option<(&[Push], &Grasp)>),
     ) -> Result<(Option<PushesThenGrasp>, Vec<SkippedPush>)> {
         let (avoid, landed) = (&context.failed, &context.landed);
-        let plan = self.plan_pushes(pusher, observed, members)?;
+        let (plan, status) = self.plan_pushes(pusher, observed, members)?;
         let mut skipped = plan.skipped;
         if plan.pushes.is_empty() {
             return Ok((None, skipped));
@@ -332,7 +349,7 @@ impl Policy {
                     }
                 } else {
                     let judged = outcome.stats.counter("probability").unwrap_or(0.0);
-                    return Ok((Some((plan.pushes, grasp, judged)), skipped));
+                    return Ok((Some((plan.pushes, grasp, judged, status)), skipped));
                 }
             }
             None => SkipReason::NoGraspAfter,
@@ -381,21 +398,22 @@ impl Policy {
     /// Pushes for a cluster. When no row of the whole cluster can be planned (the SOCP proves it
     /// infeasible, or no push sequence exists), or the planned row is not predicted held while a
     /// smaller one is, the largest sub-clusters are tried, cheapest first, and the object left out is
-    /// reported as skipped to wait for a later trip.
+    /// reported as skipped to wait for a later trip. With the push planner's status for the plan
+    /// chosen.
     fn plan_pushes(
         &self,
         pusher: &dyn PolicyPusher,
         observed: &Scene,
         members: &[ObjectId],
-    ) -> Result<PushPlan> {
+    ) -> Result<(PushPlan, Status)> {
         let usable = Status::has_answer;
         // Planners that do not judge their rows (the paper's) count as held.
         let held = |plan: &PushPlan| plan.row_held != Some(false);
         let whole = pusher.plan(observed, members)?;
         if members.len() < 3 || (usable(&whole.status) && held(&whole.value)) {
-            return Ok(whole.value);
+            return Ok((whole.value, whole.status));
         }
-        let mut best: Option<(bool, f64, PushPlan)> = None;
+        let mut best: Option<(bool, f64, PushPlan, Status)> = None;
         for left_out in members {
             let part: Vec<ObjectId> = members
                 .iter()
@@ -412,20 +430,20 @@ impl Policy {
             );
             let better = best
                 .as_ref()
-                .is_none_or(|(h, c, _)| (is_held && !*h) || (is_held == *h && cost < *c));
+                .is_none_or(|(h, c, ..)| (is_held && !*h) || (is_held == *h && cost < *c));
             if better {
                 let mut plan = sub.value;
                 plan.skipped.push(SkippedPush {
                     object: *left_out,
                     reason: SkipReason::NoRow,
                 });
-                best = Some((is_held, cost, plan));
+                best = Some((is_held, cost, plan, sub.status));
             }
         }
         Ok(match best {
-            Some((true, _, plan)) => plan,
-            Some((false, _, plan)) if !usable(&whole.status) => plan,
-            _ => whole.value,
+            Some((true, _, plan, status)) => (plan, status),
+            Some((false, _, plan, status)) if !usable(&whole.status) => (plan, status),
+            _ => (whole.value, whole.status),
         })
     }
 }

@@ -121,6 +121,12 @@ pub struct LogRow {
     /// policies that do not cluster and in logs written before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unproven_clusterings: Option<usize>,
+    /// How many push plans whose pushes were made had each status (`Plan::push_statuses`):
+    /// `best_found` for the SOCP's search, `time_limit` when its time limit cut one short,
+    /// `heuristic` for the paper's pushes. Absent without pushes and in logs written before it was
+    /// recorded.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub push_statuses: std::collections::BTreeMap<String, usize>,
     /// Whether the table was cleared.
     pub cleared: bool,
     /// Objects left, and why, when not cleared.
