@@ -271,6 +271,18 @@ impl ExperimentConfig {
         if self.repetitions == 0 {
             return Err(Error::field(component, "repetitions", "must be at least 1"));
         }
+        self.validate_sizes(&component)?;
+        self.validate_sweep(&component)?;
+        self.validate_labels(&component)?;
+        self.executor.settings.validate()?;
+        for policy in &self.policies {
+            policy.settings.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Object counts in range, seeds that do not overflow, and at most `MAX_RUNS` runs.
+    fn validate_sizes(&self, component: &str) -> Result<()> {
         if let Some(&n) = self
             .scenes
             .objects
@@ -278,7 +290,7 @@ impl ExperimentConfig {
             .find(|&&n| !(1..=MAX_OBJECTS).contains(&n))
         {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "scenes.objects",
                 format!("each count must be between 1 and {MAX_OBJECTS}, got {n}"),
             ));
@@ -290,7 +302,7 @@ impl ExperimentConfig {
             .is_none()
         {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "scenes.first_seed",
                 "first_seed + count overflows a 64-bit seed",
             ));
@@ -308,7 +320,7 @@ impl ExperimentConfig {
         .filter(|&n| n <= MAX_RUNS);
         if total.is_none() {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "scenes.count",
                 format!(
                     "object counts × scenes × sweep values × policies × repetitions must be at most \
@@ -317,6 +329,12 @@ impl ExperimentConfig {
                 ),
             ));
         }
+        Ok(())
+    }
+
+    /// Swept bin distances and frictions that are lengths and coefficients; a friction sweep only
+    /// in the simulator.
+    fn validate_sweep(&self, component: &str) -> Result<()> {
         if self
             .sweep
             .bin_distance
@@ -324,7 +342,7 @@ impl ExperimentConfig {
             .any(|d| !(d.is_finite() && *d >= 0.0))
         {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "sweep.bin_distance",
                 "must be non-negative metres",
             ));
@@ -336,18 +354,23 @@ impl ExperimentConfig {
             .any(|f| !(f.is_finite() && *f >= 0.0))
         {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "sweep.friction",
                 "must be non-negative friction coefficients",
             ));
         }
         if !self.sweep.friction.is_empty() && self.executor.kind != ExecutorKind::Sim {
             return Err(Error::field(
-                component,
+                component.to_string(),
                 "sweep.friction",
                 "sweeps the simulator's friction: needs `executor.kind = \"sim\"`",
             ));
         }
+        Ok(())
+    }
+
+    /// One label per policy.
+    fn validate_labels(&self, component: &str) -> Result<()> {
         for (second, policy) in self.policies.iter().enumerate() {
             let label = policy.label();
             if let Some(first) = self.policies[..second]
@@ -355,7 +378,7 @@ impl ExperimentConfig {
                 .position(|p| p.label() == label)
             {
                 return Err(Error::field(
-                    component,
+                    component.to_string(),
                     "policies.label",
                     format!(
                         "policies {} and {} are both labelled `{label}`; each row of the tables is \
@@ -365,10 +388,6 @@ impl ExperimentConfig {
                     ),
                 ));
             }
-        }
-        self.executor.settings.validate()?;
-        for policy in &self.policies {
-            policy.settings.validate()?;
         }
         Ok(())
     }

@@ -146,100 +146,23 @@ pub fn run_experiment(
     config_dir: &Path,
     options: &RunnerOptions,
 ) -> Result<RunReport> {
-    let (shard, shards) = options.shard;
-    if shards == 0 || shard >= shards {
-        return Err(Error::field(
-            "experiment",
-            "--shard",
-            format!("shard {shard}/{shards} does not exist: use i/n with 0 ≤ i < n"),
-        ));
-    }
-    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
-    if options.jobs > MAX_JOBS_PER_CORE * cores {
-        return Err(Error::field(
-            "experiment",
-            "--jobs",
-            format!(
-                "at most {} worker threads on this machine ({MAX_JOBS_PER_CORE} per core; runs \
-                 are CPU-bound), got {}",
-                MAX_JOBS_PER_CORE * cores,
-                options.jobs
-            ),
-        ));
-    }
+    let (shard, shards) = options.check()?;
     let set = config.object_set(config_dir)?;
     let runs: Vec<RunSpec> = config
         .runs()
         .into_iter()
         .filter(|r| r.id % shards == shard)
         .collect();
-    let hash = config_hash(config);
     // Held until the run ends: a second process on this log is refused here.
     let _lock = LogLock::acquire(&options.log)?;
-    let fresh = std::fs::metadata(&options.log).map_or(true, |m| m.len() == 0);
-    let done = if !fresh {
-        let log = read_log(&options.log)?;
-        if log.header.config_hash != hash || log.header.shard != [shard, shards] {
-            return Err(Error::field(
-                options.log.display().to_string(),
-                "header",
-                "this log was written by another configuration or shard; remove it or choose another output",
-            ));
-        }
-        for (row, spec) in log.rows.iter().zip(&runs) {
-            if row.id != spec.id {
-                return Err(Error::field(
-                    options.log.display().to_string(),
-                    "rows",
-                    format!("row {} is out of order (run {} expected)", row.id, spec.id),
-                ));
-            }
-        }
-        log.rows.len()
-    } else {
-        0
-    };
-    let mut writer = if !fresh {
-        LogWriter::append(&options.log)?
-    } else {
-        LogWriter::create(
-            &options.log,
-            &LogHeader {
-                kind: LOG_KIND.to_string(),
-                format: LOG_FORMAT,
-                crate_version: env!("CARGO_PKG_VERSION").to_string(),
-                git_commit: git_commit(),
-                machine: machine_description(),
-                config_hash: hash,
-                shard: [shard, shards],
-                runs: runs.len(),
-                config: config.clone(),
-                abilities: abilities(config)?,
-            },
-        )?
-    };
+    let (mut writer, done) = open_log(config, options, &runs)?;
     let pending: Vec<RunSpec> = runs
         .iter()
         .skip(done)
         .take(options.limit.unwrap_or(usize::MAX))
         .cloned()
         .collect();
-    let bar = if options.progress {
-        let bar = ProgressBar::new(runs.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{prefix} [{bar:30}] {pos}/{len} runs, {elapsed} spent, about {eta} left",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        bar.set_prefix(config.name.clone());
-        bar.set_position(done as u64);
-        bar.reset_eta();
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = progress_bar(options.progress, &config.name, runs.len(), done);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)
         .build()
@@ -297,4 +220,98 @@ pub fn run_experiment(
         resumed: done,
         made,
     })
+}
+
+impl RunnerOptions {
+    /// The shard `(i, n)`, once the shard exists and the worker threads are not too many for this
+    /// machine.
+    fn check(&self) -> Result<(usize, usize)> {
+        let (shard, shards) = self.shard;
+        if shards == 0 || shard >= shards {
+            return Err(Error::field(
+                "experiment",
+                "--shard",
+                format!("shard {shard}/{shards} does not exist: use i/n with 0 ≤ i < n"),
+            ));
+        }
+        let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+        if self.jobs > MAX_JOBS_PER_CORE * cores {
+            return Err(Error::field(
+                "experiment",
+                "--jobs",
+                format!(
+                    "at most {} worker threads on this machine ({MAX_JOBS_PER_CORE} per core; runs \
+                     are CPU-bound), got {}",
+                    MAX_JOBS_PER_CORE * cores,
+                    self.jobs
+                ),
+            ));
+        }
+        Ok((shard, shards))
+    }
+}
+
+/// The log to write `runs` (this shard's) to, and how many of them it already holds: a new log
+/// with its header, or an existing one of the same configuration and shard whose rows are these
+/// runs' first ones, in order, appended to.
+fn open_log(
+    config: &ExperimentConfig,
+    options: &RunnerOptions,
+    runs: &[RunSpec],
+) -> Result<(LogWriter, usize)> {
+    let (shard, shards) = options.shard;
+    let hash = config_hash(config);
+    let fresh = std::fs::metadata(&options.log).map_or(true, |m| m.len() == 0);
+    if fresh {
+        let header = LogHeader {
+            kind: LOG_KIND.to_string(),
+            format: LOG_FORMAT,
+            crate_version: env!("CARGO_PKG_VERSION").to_string(),
+            git_commit: git_commit(),
+            machine: machine_description(),
+            config_hash: hash,
+            shard: [shard, shards],
+            runs: runs.len(),
+            config: config.clone(),
+            abilities: abilities(config)?,
+        };
+        return Ok((LogWriter::create(&options.log, &header)?, 0));
+    }
+    let log = read_log(&options.log)?;
+    if log.header.config_hash != hash || log.header.shard != [shard, shards] {
+        return Err(Error::field(
+            options.log.display().to_string(),
+            "header",
+            "this log was written by another configuration or shard; remove it or choose another output",
+        ));
+    }
+    for (row, spec) in log.rows.iter().zip(runs) {
+        if row.id != spec.id {
+            return Err(Error::field(
+                options.log.display().to_string(),
+                "rows",
+                format!("row {} is out of order (run {} expected)", row.id, spec.id),
+            ));
+        }
+    }
+    Ok((LogWriter::append(&options.log)?, log.rows.len()))
+}
+
+/// A progress bar over `total` runs, `done` of them already logged (hidden without `progress`).
+fn progress_bar(progress: bool, name: &str, total: usize, done: usize) -> ProgressBar {
+    if !progress {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {pos}/{len} runs, {elapsed} spent, about {eta} left",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(name.to_string());
+    bar.set_position(done as u64);
+    bar.reset_eta();
+    bar
 }

@@ -35,7 +35,6 @@ pub(super) fn check_pushes(
     range: std::ops::Range<usize>,
     found: &mut Vec<String>,
 ) -> Vec<ConvexPolygon> {
-    let gripper = scene.gripper();
     let mut world: Vec<ConvexPolygon> = (0..scene.len())
         .map(|i| scene.world_polygon(i).clone())
         .collect();
@@ -101,64 +100,84 @@ pub(super) fn check_pushes(
                 ));
             }
         }
-        let fork = &push.fork;
-        if !angle_ok(fork.jaw_angle) {
-            found.push(format!(
-                "push {n}: jaw angle {} rad is not an angle within ±{MAX_YAW} rad",
-                crate::error::number(fork.jaw_angle)
-            ));
+        if !check_fork(scene, (n, push), &world, index, found) {
             continue;
-        }
-        let jaw_line = Vector2::new(fork.jaw_angle.cos(), fork.jaw_angle.sin());
-        if jaw_line.dot(&direction).abs() > MAX_SKEW.sin() + 1e-9 {
-            found.push(format!(
-                "push {n}: the jaw line is {:.1}° from perpendicular to the push (at most {:.0}°)",
-                jaw_line.dot(&direction).abs().asin().to_degrees(),
-                MAX_SKEW.to_degrees()
-            ));
-        }
-        if ((fork.end - fork.contact) - moved).norm() > TOLERANCE {
-            found.push(format!(
-                "push {n}: the fingers do not travel with the object"
-            ));
-        }
-        let at_contact = fingers(gripper, &fork.contact, fork.jaw_angle, fork.opening);
-        if at_contact
-            .iter()
-            .any(|f| penetration_depth(f, &world[index]) > TOUCH)
-        {
-            found.push(format!(
-                "push {n}: the fingers cut into object {}",
-                push.object
-            ));
-        }
-        let at_approach = fingers(gripper, &fork.approach, fork.jaw_angle, fork.opening);
-        let travel = fork.end - fork.approach;
-        let length = travel.norm();
-        for (other, outline) in world.iter().enumerate() {
-            if at_approach.iter().any(|f| overlap(f, outline, TOLERANCE)) {
-                found.push(format!(
-                    "push {n}: the fingers are lowered onto object {}",
-                    scene.objects()[other].id
-                ));
-            }
-            if other == index || length == 0.0 {
-                continue;
-            }
-            if at_approach
-                .iter()
-                .any(|f| cast_distance(f, &(travel / length), length, outline).is_some())
-            {
-                found.push(format!(
-                    "push {n}: the fingers hit object {}",
-                    scene.objects()[other].id
-                ));
-            }
         }
         world[index] = world[index].translated(&moved);
         poses[index] = push.to;
     }
     world
+}
+
+/// The fork of push `n` (of the object at `index`, whose outline on the table before the push is
+/// `world[index]`): a jaw angle, a jaw line across the push, fingers that travel with the object,
+/// that come down clear of every object and touch no other on their way. False when the jaw angle
+/// is no angle, so that nothing else of the push can be checked (the push is then not applied).
+fn check_fork(
+    scene: &Scene,
+    (n, push): (usize, &crate::push::Push),
+    world: &[ConvexPolygon],
+    index: usize,
+    found: &mut Vec<String>,
+) -> bool {
+    let gripper = scene.gripper();
+    let direction = push.direction;
+    let moved = direction * push.distance;
+    let fork = &push.fork;
+    if !angle_ok(fork.jaw_angle) {
+        found.push(format!(
+            "push {n}: jaw angle {} rad is not an angle within ±{MAX_YAW} rad",
+            crate::error::number(fork.jaw_angle)
+        ));
+        return false;
+    }
+    let jaw_line = Vector2::new(fork.jaw_angle.cos(), fork.jaw_angle.sin());
+    if jaw_line.dot(&direction).abs() > MAX_SKEW.sin() + 1e-9 {
+        found.push(format!(
+            "push {n}: the jaw line is {:.1}° from perpendicular to the push (at most {:.0}°)",
+            jaw_line.dot(&direction).abs().asin().to_degrees(),
+            MAX_SKEW.to_degrees()
+        ));
+    }
+    if ((fork.end - fork.contact) - moved).norm() > TOLERANCE {
+        found.push(format!(
+            "push {n}: the fingers do not travel with the object"
+        ));
+    }
+    let at_contact = fingers(gripper, &fork.contact, fork.jaw_angle, fork.opening);
+    if at_contact
+        .iter()
+        .any(|f| penetration_depth(f, &world[index]) > TOUCH)
+    {
+        found.push(format!(
+            "push {n}: the fingers cut into object {}",
+            push.object
+        ));
+    }
+    let at_approach = fingers(gripper, &fork.approach, fork.jaw_angle, fork.opening);
+    let travel = fork.end - fork.approach;
+    let length = travel.norm();
+    for (other, outline) in world.iter().enumerate() {
+        if at_approach.iter().any(|f| overlap(f, outline, TOLERANCE)) {
+            found.push(format!(
+                "push {n}: the fingers are lowered onto object {}",
+                scene.objects()[other].id
+            ));
+        }
+        if other == index || length == 0.0 {
+            continue;
+        }
+        if at_approach
+            .iter()
+            .any(|f| cast_distance(f, &(travel / length), length, outline).is_some())
+        {
+            found.push(format!(
+                "push {n}: the fingers hit object {}",
+                scene.objects()[other].id
+            ));
+        }
+    }
+    true
 }
 
 /// An angle the plan may give: finite and, like an object's yaw, within ±[`MAX_YAW`] radians (far

@@ -160,69 +160,77 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
         }
         carried.extend(this_trip);
         if exact {
-            // Every look: this table after the pushes made before it. The next table: this one
-            // after all the pushes, less what was carried.
-            let mut poses: Vec<(ObjectId, [f64; 3])> = trip
-                .scene
-                .objects
-                .iter()
-                .map(|o| (o.id, [o.pose.x, o.pose.y, o.pose.yaw]))
-                .collect();
-            let mut looks = trip.looks.iter().enumerate().peekable();
-            for (n, push) in trip.pushes.iter().enumerate() {
-                while let Some((l, look)) = looks.next_if(|(_, look)| look.after_pushes == n) {
-                    if !same_table(&poses, &look.scene) {
-                        add(
-                            Some(k),
-                            format!("look {l} is not the trip's table after its first {n} pushes"),
-                        );
-                    }
-                }
-                if let Some(entry) = poses.iter_mut().find(|(id, _)| *id == push.object) {
-                    let moved = push.displacement();
-                    entry.1[0] += moved.x;
-                    entry.1[1] += moved.y;
-                }
-            }
-            for (l, look) in looks {
-                if !same_table(&poses, &look.scene) {
-                    add(
-                        Some(k),
-                        format!("look {l} is not the trip's table after its pushes"),
-                    );
-                }
-            }
+            let mut poses = pushed_table(trip, &mut |what| add(Some(k), what));
             poses.retain(|(id, _)| !carried.contains(id));
             expected = Some(poses);
         }
     }
-    let left: BTreeSet<ObjectId> = seen.difference(&carried).copied().collect();
-    match &plan.status {
+    check_status(&plan.status, &seen, &carried, &mut |what| add(None, what));
+    found
+}
+
+/// Plans applied exactly: the trip's table after all its pushes, each look checked to be its table
+/// after the pushes made before it (what is wrong goes to `add`).
+fn pushed_table(trip: &super::Trip, add: &mut dyn FnMut(String)) -> Vec<(ObjectId, [f64; 3])> {
+    let mut poses: Vec<(ObjectId, [f64; 3])> = trip
+        .scene
+        .objects
+        .iter()
+        .map(|o| (o.id, [o.pose.x, o.pose.y, o.pose.yaw]))
+        .collect();
+    let mut looks = trip.looks.iter().enumerate().peekable();
+    for (n, push) in trip.pushes.iter().enumerate() {
+        while let Some((l, look)) = looks.next_if(|(_, look)| look.after_pushes == n) {
+            if !same_table(&poses, &look.scene) {
+                add(format!(
+                    "look {l} is not the trip's table after its first {n} pushes"
+                ));
+            }
+        }
+        if let Some(entry) = poses.iter_mut().find(|(id, _)| *id == push.object) {
+            let moved = push.displacement();
+            entry.1[0] += moved.x;
+            entry.1[1] += moved.y;
+        }
+    }
+    for (l, look) in looks {
+        if !same_table(&poses, &look.scene) {
+            add(format!("look {l} is not the trip's table after its pushes"));
+        }
+    }
+    poses
+}
+
+/// The run's final status against the objects `seen` and `carried` over its trips (what is wrong
+/// goes to `add`).
+fn check_status(
+    status: &RunStatus,
+    seen: &std::collections::BTreeSet<ObjectId>,
+    carried: &std::collections::BTreeSet<ObjectId>,
+    add: &mut dyn FnMut(String),
+) {
+    use std::collections::BTreeSet;
+    let left: BTreeSet<ObjectId> = seen.difference(carried).copied().collect();
+    match status {
         RunStatus::Cleared => {
             if !left.is_empty() {
-                add(
-                    None,
-                    format!("status cleared, but objects {left:?} were never carried"),
-                );
+                add(format!(
+                    "status cleared, but objects {left:?} were never carried"
+                ));
             }
         }
         RunStatus::Stopped { remaining, .. } => {
             let remaining: BTreeSet<ObjectId> = remaining.iter().copied().collect();
-            if let Some(id) = remaining.intersection(&carried).next() {
-                add(
-                    None,
-                    format!("object {id} is said to be left but was carried"),
-                );
+            if let Some(id) = remaining.intersection(carried).next() {
+                add(format!("object {id} is said to be left but was carried"));
             }
             if let Some(id) = left.difference(&remaining).next() {
-                add(
-                    None,
-                    format!("object {id} was neither carried nor said to be left"),
-                );
+                add(format!(
+                    "object {id} was neither carried nor said to be left"
+                ));
             }
         }
     }
-    found
 }
 
 /// Whether `scene` holds exactly these objects at these poses, in order.
