@@ -2,13 +2,14 @@
 //! reports, in Markdown, CSV and LaTeX. Wall-clock columns go to separate timing tables, so the result
 //! tables of one configuration and seed are byte-identical from run to run.
 
-use std::fmt::Write as _;
-
 use super::log::{Log, LogRow};
 use super::runner::quantile;
 use crate::stats::{mean, mean_std, t_95};
 
 mod csv_lines;
+mod table;
+
+use table::{Cell, Column, Table, tex};
 
 pub use csv_lines::{results_csv, timing_csv};
 
@@ -181,11 +182,6 @@ fn paired_with_sog(log: &Log, rows: &[&LogRow]) -> Option<(f64, f64)> {
     (!ratios.is_empty()).then(|| (mean(ratios.iter().copied()), interval_95(&ratios)))
 }
 
-/// A ratio to sog with its interval, or `–`.
-fn versus_sog_text(versus: Option<(f64, f64)>) -> String {
-    versus.map_or("–".to_string(), |(m, h)| format!("{m:.3} ± {h:.3}"))
-}
-
 /// The paper's figure for a group, when the group matches the paper's setup (34 objects, the bin
 /// beside the workspace: the default time model's 0.3 m).
 fn paper_reference(group: &GroupSummary) -> Option<(f64, f64)> {
@@ -220,85 +216,97 @@ fn varies(groups: &[GroupSummary]) -> Varies {
     }
 }
 
-/// The cells after the policy that tell groups apart: the object count, the bin distance and the
-/// friction, each only when it varies in the log.
-fn key_cells(group: &GroupSummary, by: Varies) -> Vec<String> {
-    let mut cells = Vec::new();
+/// The columns after the policy that tell groups apart: the object count, the bin distance and
+/// the friction, each only when it varies in the log.
+fn key_columns(by: Varies) -> Vec<Column> {
+    let mut columns = Vec::new();
     if by.objects {
-        cells.push(group.objects.to_string());
+        columns.push(Column::markdown("objects", 0).latex("Objects", 'r', 0));
     }
     if by.bin {
-        cells.push(format!("{:.2}", group.bin_distance));
+        columns.push(Column::markdown("bin distance (m)", 2).latex("Bin (m)", 'r', 2));
     }
     if by.friction {
-        cells.push(
-            group
-                .friction
-                .map_or("–".to_string(), |f| format!("{f:.2}")),
-        );
+        columns.push(Column::markdown("friction", 2).latex("$\\mu$", 'r', 2));
+    }
+    columns
+}
+
+/// A group's cells of [`key_columns`].
+fn key_cells(group: &GroupSummary, by: Varies) -> Vec<Cell> {
+    let mut cells = Vec::new();
+    if by.objects {
+        cells.push(Cell::Number(group.objects as f64));
+    }
+    if by.bin {
+        cells.push(Cell::Number(group.bin_distance));
+    }
+    if by.friction {
+        cells.push(group.friction.map_or(Cell::Missing, Cell::Number));
     }
     cells
 }
 
-/// The results table in Markdown (no wall-clock columns).
-pub fn results_markdown(log: &Log) -> String {
+/// The results table, declared once for Markdown and LaTeX (LaTeX shows fewer columns).
+fn results_table(log: &Log) -> Table {
     let groups = summarise(log);
     let by = varies(&groups);
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{} — {} executor, {} runs",
+    let mut columns = vec![Column::markdown("policy", 0).left().latex("Policy", 'l', 0)];
+    columns.extend(key_columns(by));
+    columns.extend([
+        Column::markdown("runs", 0),
+        Column::markdown("objects per trip", 3)
+            .left()
+            .latex("OpT", 'c', 3),
+        Column::markdown("paper, physical UR5", 3)
+            .left()
+            .latex("Paper (UR5)", 'c', 3),
+        Column::markdown("trips", 1).latex("Trips", 'c', 1),
+        Column::markdown("pushes", 1).latex("Pushes", 'r', 1),
+        Column::markdown("push distance (m)", 3),
+        Column::markdown("failed grasps", 2),
+        Column::markdown("landings", 2),
+        Column::markdown("cleared", 0),
+        Column::markdown("robot time (s)", 1).latex("Time (s)", 'r', 0),
+        Column::markdown("picks per hour", 1).latex("Picks/h", 'r', 0),
+        Column::markdown("picks per hour / sog's, paired", 3).latex("vs.\\ sog", 'r', 3),
+    ]);
+    let interval =
+        |value: Option<(f64, f64)>| value.map_or(Cell::Missing, |(m, h)| Cell::Interval(m, h));
+    let rows = groups
+        .iter()
+        .map(|g| {
+            let mut cells = vec![Cell::Text(g.policy.clone())];
+            cells.extend(key_cells(g, by));
+            cells.extend([
+                Cell::Number(g.runs as f64),
+                Cell::Interval(g.opt.0, g.opt.1),
+                interval(paper_reference(g)),
+                Cell::Number(g.trips),
+                Cell::Number(g.pushes),
+                Cell::Number(g.push_distance),
+                Cell::Number(g.failed_grasps),
+                Cell::Number(g.landings),
+                Cell::Count(g.cleared, g.runs),
+                Cell::Number(g.robot_seconds),
+                Cell::Interval(g.picks_per_hour, g.picks_per_hour_95),
+                interval(g.versus_sog),
+            ]);
+            cells
+        })
+        .collect();
+    Table { columns, rows }
+}
+
+/// The results table in Markdown (no wall-clock columns).
+pub fn results_markdown(log: &Log) -> String {
+    format!(
+        "{} — {} executor, {} runs\n\n{}",
         log.header.config.name,
         executor_name(log),
-        log.rows.len()
-    );
-    let _ = writeln!(out);
-    let mut head = String::from("| policy |");
-    let mut rule = String::from("|---|");
-    if by.objects {
-        head.push_str(" objects |");
-        rule.push_str("---:|");
-    }
-    if by.bin {
-        head.push_str(" bin distance (m) |");
-        rule.push_str("---:|");
-    }
-    if by.friction {
-        head.push_str(" friction |");
-        rule.push_str("---:|");
-    }
-    head.push_str(" runs | objects per trip | paper, physical UR5 | trips | pushes | push distance (m) | failed grasps | landings | cleared | robot time (s) | picks per hour | picks per hour / sog's, paired |");
-    rule.push_str("---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    let _ = writeln!(out, "{head}");
-    let _ = writeln!(out, "{rule}");
-    for g in &groups {
-        let mut line = format!("| {} |", g.policy);
-        for cell in key_cells(g, by) {
-            let _ = write!(line, " {cell} |");
-        }
-        let paper =
-            paper_reference(g).map_or("–".to_string(), |(m, s)| format!("{m:.3} ± {s:.3}"));
-        let _ = writeln!(
-            line,
-            " {} | {:.3} ± {:.3} | {paper} | {:.1} | {:.1} | {:.3} | {:.2} | {:.2} | {}/{} | {:.1} | {:.1} ± {:.1} | {} |",
-            g.runs,
-            g.opt.0,
-            g.opt.1,
-            g.trips,
-            g.pushes,
-            g.push_distance,
-            g.failed_grasps,
-            g.landings,
-            g.cleared,
-            g.runs,
-            g.robot_seconds,
-            g.picks_per_hour,
-            g.picks_per_hour_95,
-            versus_sog_text(g.versus_sog)
-        );
-        out.push_str(&line);
-    }
-    out
+        log.rows.len(),
+        results_table(log).markdown()
+    )
 }
 
 fn executor_name(log: &Log) -> &'static str {
@@ -309,99 +317,64 @@ fn executor_name(log: &Log) -> &'static str {
 pub fn timing_markdown(log: &Log) -> String {
     let groups = summarise(log);
     let by_friction = varies(&groups).friction;
-    let mut out = format!(
-        "{} — planning times on {} (wall-clock, not reproducible)\n\n",
-        log.header.config.name, log.header.machine
-    );
-    out.push_str("| policy | objects | bin distance (m) |");
-    out.push_str(if by_friction { " friction |" } else { "" });
-    out.push_str(
-        " planning median (ms) | planning p95 (ms) | clustering median (ms) | CPU per run, median (s) |\n",
-    );
-    out.push_str("|---|---:|---:|");
-    out.push_str(if by_friction { "---:|" } else { "" });
-    out.push_str("---:|---:|---:|---:|\n");
-    for g in &groups {
-        let friction = match (by_friction, g.friction) {
-            (false, _) => String::new(),
-            (true, f) => format!(" {} |", f.map_or("–".to_string(), |f| format!("{f:.2}"))),
-        };
-        let _ = writeln!(
-            out,
-            "| {} | {} | {:.2} |{friction} {:.3} | {:.3} | {:.3} | {} |",
-            g.policy,
-            g.objects,
-            g.bin_distance,
-            g.planning_median * 1e3,
-            g.planning_p95 * 1e3,
-            g.clustering_median * 1e3,
-            cpu_text(g.cpu_median)
-        );
+    let mut columns = vec![
+        Column::markdown("policy", 0).left(),
+        Column::markdown("objects", 0),
+        Column::markdown("bin distance (m)", 2),
+    ];
+    if by_friction {
+        columns.push(Column::markdown("friction", 2));
     }
-    out
+    columns.extend([
+        Column::markdown("planning median (ms)", 3),
+        Column::markdown("planning p95 (ms)", 3),
+        Column::markdown("clustering median (ms)", 3),
+        Column::markdown("CPU per run, median (s)", 2),
+    ]);
+    let rows = groups
+        .iter()
+        .map(|g| {
+            let mut cells = vec![
+                Cell::Text(g.policy.clone()),
+                Cell::Number(g.objects as f64),
+                Cell::Number(g.bin_distance),
+            ];
+            if by_friction {
+                cells.push(g.friction.map_or(Cell::Missing, Cell::Number));
+            }
+            cells.extend([
+                Cell::Number(g.planning_median * 1e3),
+                Cell::Number(g.planning_p95 * 1e3),
+                Cell::Number(g.clustering_median * 1e3),
+                cpu_cell(g.cpu_median),
+            ]);
+            cells
+        })
+        .collect();
+    format!(
+        "{} — planning times on {} (wall-clock, not reproducible)\n\n{}",
+        log.header.config.name,
+        log.header.machine,
+        Table { columns, rows }.markdown()
+    )
 }
 
-/// A CPU time in seconds, or `–` when the log did not record it (0).
-fn cpu_text(seconds: f64) -> String {
+/// A CPU time in seconds, or missing when the log did not record it (0).
+fn cpu_cell(seconds: f64) -> Cell {
     if seconds > 0.0 {
-        format!("{seconds:.2}")
+        Cell::Number(seconds)
     } else {
-        "–".to_string()
+        Cell::Missing
     }
 }
 
-fn tex(text: &str) -> String {
-    text.replace('_', "\\_")
-        .replace('%', "\\%")
-        .replace('&', "\\&")
-}
-
-/// The results as a LaTeX table body (booktabs), to `\input` in a `table` environment.
+/// The results as a LaTeX table body (booktabs), to `\\input` in a `table` environment.
 pub fn results_latex(log: &Log) -> String {
-    let groups = summarise(log);
-    let by = varies(&groups);
-    let mut columns = String::from("l");
-    let mut head = String::from("Policy");
-    if by.objects {
-        columns.push('r');
-        head.push_str(" & Objects");
-    }
-    if by.bin {
-        columns.push('r');
-        head.push_str(" & Bin (m)");
-    }
-    if by.friction {
-        columns.push('r');
-        head.push_str(" & $\\mu$");
-    }
-    columns.push_str("cccrrrr");
-    head.push_str(" & OpT & Paper (UR5) & Trips & Pushes & Time (s) & Picks/h & vs.\\ sog");
-    let mut out = format!(
-        "% Generated by `pushmog experiment` from {}; do not edit.\n\\begin{{tabular}}{{{columns}}}\n\\toprule\n{head} \\\\\n\\midrule\n",
-        tex(&log.header.config.name)
-    );
-    for g in &groups {
-        let mut line = tex(&g.policy);
-        for cell in key_cells(g, by) {
-            let _ = write!(line, " & {}", cell.replace('–', "--"));
-        }
-        let paper =
-            paper_reference(g).map_or("--".to_string(), |(m, s)| format!("${m:.3} \\pm {s:.3}$"));
-        let _ = writeln!(
-            line,
-            " & ${:.3} \\pm {:.3}$ & {paper} & {:.1} & {:.1} & {:.0} & ${:.0} \\pm {:.0}$ & {} \\\\",
-            g.opt.0,
-            g.opt.1,
-            g.trips,
-            g.pushes,
-            g.robot_seconds,
-            g.picks_per_hour,
-            g.picks_per_hour_95,
-            g.versus_sog
-                .map_or("--".to_string(), |(m, h)| format!("${m:.3} \\pm {h:.3}$"))
-        );
-        out.push_str(&line);
-    }
-    out.push_str("\\bottomrule\n\\end{tabular}\n");
-    out
+    let table = results_table(log);
+    format!(
+        "% Generated by `pushmog experiment` from {}; do not edit.\n\\begin{{tabular}}{{{}}}\n\\toprule\n{}\\bottomrule\n\\end{{tabular}}\n",
+        tex(&log.header.config.name),
+        table.latex_columns(),
+        table.latex_body()
+    )
 }

@@ -1,0 +1,155 @@
+//! One table, declared once and written as Markdown or as a LaTeX (booktabs) body: its columns
+//! (the heading, alignment and decimals of each, in Markdown and, when LaTeX shows the column, in
+//! LaTeX) and its rows of cells holding values, not text, so that each writer formats them its own
+//! way (`±` or `\pm`, `–` or `--`).
+
+use std::fmt::Write;
+
+/// One column.
+#[derive(Clone, Debug)]
+pub(super) struct Column {
+    /// The Markdown heading.
+    pub markdown: &'static str,
+    /// Right-aligned in Markdown (`---:`), else `---`.
+    pub right: bool,
+    /// The LaTeX heading and alignment (`l`, `c`, `r`); `None`: LaTeX leaves the column out.
+    pub latex: Option<(&'static str, char)>,
+    /// Decimals of numbers in Markdown.
+    pub decimals: usize,
+    /// Decimals of numbers in LaTeX.
+    pub latex_decimals: usize,
+}
+
+impl Column {
+    /// A column of the Markdown table only, right-aligned, numbers with `decimals`.
+    pub fn markdown(markdown: &'static str, decimals: usize) -> Self {
+        Self {
+            markdown,
+            right: true,
+            latex: None,
+            decimals,
+            latex_decimals: decimals,
+        }
+    }
+
+    /// The same column aligned left in Markdown.
+    pub fn left(self) -> Self {
+        Self {
+            right: false,
+            ..self
+        }
+    }
+
+    /// The same column in LaTeX too, headed `heading`, aligned `align`, numbers with `decimals`.
+    pub fn latex(self, heading: &'static str, align: char, decimals: usize) -> Self {
+        Self {
+            latex: Some((heading, align)),
+            latex_decimals: decimals,
+            ..self
+        }
+    }
+}
+
+/// One cell's value.
+#[derive(Clone, Debug)]
+pub(super) enum Cell {
+    /// Text as it is (LaTeX escapes `_`, `%` and `&`).
+    Text(String),
+    /// A number with the column's decimals.
+    Number(f64),
+    /// A mean and the half-width of its interval, with the column's decimals.
+    Interval(f64, f64),
+    /// `n/of`.
+    Count(usize, usize),
+    /// No value: `–`.
+    Missing,
+}
+
+/// A table: columns and rows of cells, one per column.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Table {
+    pub columns: Vec<Column>,
+    pub rows: Vec<Vec<Cell>>,
+}
+
+impl Table {
+    /// The Markdown table: heading, rule and rows, each line ending in a newline.
+    pub fn markdown(&self) -> String {
+        let mut out = String::from("|");
+        for column in &self.columns {
+            let _ = write!(out, " {} |", column.markdown);
+        }
+        out.push_str("\n|");
+        for column in &self.columns {
+            out.push_str(if column.right { "---:|" } else { "---|" });
+        }
+        out.push('\n');
+        for row in &self.rows {
+            out.push('|');
+            for (cell, column) in row.iter().zip(&self.columns) {
+                let _ = write!(out, " {} |", markdown_cell(cell, column.decimals));
+            }
+            out.push('\n');
+        }
+        out
+    }
+
+    /// The LaTeX column specification (`lrcc…`) of the columns LaTeX shows.
+    pub fn latex_columns(&self) -> String {
+        self.latex_shown()
+            .filter_map(|c| c.latex)
+            .map(|(_, align)| align)
+            .collect()
+    }
+
+    /// The LaTeX heading and rows (booktabs rules between), of the columns LaTeX shows.
+    pub fn latex_body(&self) -> String {
+        let head: Vec<&str> = self
+            .latex_shown()
+            .filter_map(|c| c.latex)
+            .map(|(heading, _)| heading)
+            .collect();
+        let mut out = format!("{} \\\\\n\\midrule\n", head.join(" & "));
+        for row in &self.rows {
+            let cells: Vec<String> = row
+                .iter()
+                .zip(&self.columns)
+                .filter(|(_, column)| column.latex.is_some())
+                .map(|(cell, column)| latex_cell(cell, column.latex_decimals))
+                .collect();
+            let _ = writeln!(out, "{} \\\\", cells.join(" & "));
+        }
+        out
+    }
+
+    fn latex_shown(&self) -> impl Iterator<Item = &Column> + '_ {
+        self.columns.iter().filter(|c| c.latex.is_some())
+    }
+}
+
+fn markdown_cell(cell: &Cell, decimals: usize) -> String {
+    match cell {
+        Cell::Text(text) => text.clone(),
+        Cell::Number(value) => format!("{value:.decimals$}"),
+        Cell::Interval(mean, half) => format!("{mean:.decimals$} ± {half:.decimals$}"),
+        Cell::Count(n, of) => format!("{n}/{of}"),
+        Cell::Missing => "–".to_string(),
+    }
+}
+
+fn latex_cell(cell: &Cell, decimals: usize) -> String {
+    match cell {
+        Cell::Text(text) => tex(text),
+        Cell::Number(value) => format!("{value:.decimals$}"),
+        Cell::Interval(mean, half) => format!("${mean:.decimals$} \\pm {half:.decimals$}$"),
+        Cell::Count(n, of) => format!("{n}/{of}"),
+        Cell::Missing => "--".to_string(),
+    }
+}
+
+/// `text` with LaTeX's special characters `_`, `%` and `&` escaped.
+pub(super) fn tex(text: &str) -> String {
+    text.replace('_', "\\_")
+        .replace('%', "\\%")
+        .replace('&', "\\&")
+}
