@@ -153,3 +153,37 @@ pub(super) fn tex(text: &str) -> String {
         .replace('%', "\\%")
         .replace('&', "\\&")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Cell, Column, Table};
+
+    #[test]
+    fn one_declaration_gives_both_tables() {
+        let table = Table {
+            columns: vec![
+                Column::markdown("policy", 0).left().latex("Policy", 'l', 0),
+                Column::markdown("runs", 0),
+                Column::markdown("picks per hour", 1).latex("Picks/h", 'r', 0),
+            ],
+            rows: vec![
+                vec![
+                    Cell::Text("push_mog".into()),
+                    Cell::Count(3, 4),
+                    Cell::Interval(250.04, 1.26),
+                ],
+                vec![Cell::Text("sog".into()), Cell::Number(4.0), Cell::Missing],
+            ],
+        };
+        assert_eq!(
+            table.markdown(),
+            "| policy | runs | picks per hour |\n|---|---:|---:|\n\
+             | push_mog | 3/4 | 250.0 ± 1.3 |\n| sog | 4 | – |\n"
+        );
+        assert_eq!(table.latex_columns(), "lr");
+        assert_eq!(
+            table.latex_body(),
+            "Policy & Picks/h \\\\\n\\midrule\npush\\_mog & $250 \\pm 1$ \\\\\nsog & -- \\\\\n"
+        );
+    }
+}
