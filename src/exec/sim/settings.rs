@@ -18,6 +18,9 @@ pub enum FingerDrive {
     Independent,
 }
 
+/// A setting checked against its range: field, value, range and why the range.
+type Check = (&'static str, f64, (f64, f64), &'static str);
+
 /// Physical parameters, motions and noise of the simulated robot and table.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
@@ -146,9 +149,22 @@ impl SimSettings {
     /// # Errors
     /// [`crate::Error::InvalidField`] naming the field and the range.
     pub fn validate(&self) -> Result<()> {
+        let checks = [
+            self.material_checks(),
+            self.motion_checks(),
+            self.noise_checks(),
+        ];
+        for (field, value, range, why) in checks.into_iter().flatten() {
+            crate::error::in_range("sim", field, value, range, why)?;
+        }
+        Ok(())
+    }
+
+    /// Friction, density and the fingers' build: field, value, range and why.
+    fn material_checks(&self) -> Vec<Check> {
         const FRICTION: (f64, f64) = (0.0, 2.0);
         const FRICTION_WHY: &str = "Coulomb friction of dry solids";
-        let checks: [(&str, f64, (f64, f64), &str); 23] = [
+        vec![
             (
                 "friction_finger",
                 self.friction_finger,
@@ -197,6 +213,12 @@ impl SimSettings {
                 (1.0, 235.0),
                 "N; the 2F-85 grips with 20–235 N",
             ),
+        ]
+    }
+
+    /// Speeds, forces, heights and the time step.
+    fn motion_checks(&self) -> Vec<Check> {
+        vec![
             (
                 "jaw_speed",
                 self.jaw_speed,
@@ -252,6 +274,12 @@ impl SimSettings {
                 "Hz of the soft contact constraints",
             ),
             ("reach", self.reach, (0.02, 1.0), "m around an action"),
+        ]
+    }
+
+    /// Perception and actuation noise, and when an object counts as toppled.
+    fn noise_checks(&self) -> Vec<Check> {
+        vec![
             (
                 "perception_position",
                 self.perception_position,
@@ -282,10 +310,6 @@ impl SimSettings {
                 (0.01, 1.57),
                 "rad from upright",
             ),
-        ];
-        for (field, value, range, why) in checks {
-            crate::error::in_range("sim", field, value, range, why)?;
-        }
-        Ok(())
+        ]
     }
 }
