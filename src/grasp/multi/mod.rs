@@ -100,7 +100,8 @@ impl MultiObject {
 
     /// Whether the outcome model, judging `jaws` on `scene` (the objects `pushed` with their push
     /// error), carries every object of `members` (scene indices) in at least `min_probability` of
-    /// the samples: the test a candidate must pass to be used, asked of one pose.
+    /// the samples, with none of the objects it holds (two or more) within `edge_margin` of the
+    /// workspace's edge: the tests a candidate must pass to be used, asked of one pose.
     pub fn carries(
         &self,
         scene: &Scene,
@@ -114,7 +115,8 @@ impl MultiObject {
             .outcome
             .judge(scene, jaws, pushed, failures_allowed(minimum, samples));
         matches!(&judgement.nominal, Squeeze::Held { objects, .. }
-            if members.iter().all(|m| objects.contains(m)))
+            if members.iter().all(|m| objects.contains(m))
+                && (objects.len() < 2 || !objects.iter().any(|&i| self.near_edge(scene, i, jaws))))
             && judgement.probability() >= minimum
     }
 
