@@ -323,19 +323,41 @@ fn a_push_blocked_by_an_outside_object_is_reported() {
     );
 }
 
-/// One conformance suite per trait, over every implementation, on the same seeded scenes.
+/// One conformance suite per trait, over every implementation (the MILP and the SOCP included), on
+/// the same seeded scenes: clusterings cover every object once and pass the verifier, pushes leave
+/// no object unaccounted for, grasps take a member within the stroke, and each answer's status
+/// agrees with its value and with what the planner says it can claim.
 #[test]
 fn conformance_of_every_planner() {
-    let clusterers: Vec<Box<dyn Clusterer>> = vec![Box::new(Hierarchical::default())];
-    let pushers: Vec<Box<dyn PushPlanner>> = vec![Box::new(TowardCentral::default())];
+    use pushmog::cluster::{Milp, MilpSettings};
+    use pushmog::outcome::{Abilities, Status};
+    use pushmog::plan::verify_clustering;
+    use pushmog::push::Socp;
+    let clusterers: Vec<Box<dyn Clusterer>> = vec![
+        Box::new(Hierarchical::default()),
+        Box::new(Milp::new(MilpSettings::default(), Problem::shared_default()).unwrap()),
+    ];
+    let pushers: Vec<Box<dyn PushPlanner>> = vec![
+        Box::new(TowardCentral::default()),
+        Box::new(Socp::default()),
+    ];
     let graspers: Vec<Box<dyn GraspPlanner>> = vec![
         Box::new(SingleObject::default()),
         Box::new(MultiObject::default()),
     ];
+    // A status claims no more than its planner can: optimal only from one that proves optima, a
+    // time limit only from one that has one.
+    let claims = |status: &Status, abilities: &Abilities| {
+        (abilities.proves_optimality || *status != Status::Optimal)
+            && (abilities.time_limit.is_some() || *status != Status::TimeLimit)
+    };
     for seed in 0..5 {
         let s = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
         for clusterer in &clusterers {
             let outcome = clusterer.cluster(&s).unwrap();
+            let name = clusterer.name();
+            assert!(outcome.status.has_answer(), "{name}: {:?}", outcome.status);
+            assert!(claims(&outcome.status, &clusterer.abilities()), "{name}");
             let clusters: Vec<Vec<usize>> = outcome
                 .value
                 .clusters
@@ -344,32 +366,66 @@ fn conformance_of_every_planner() {
                 .collect();
             let mut all: Vec<usize> = clusters.iter().flatten().copied().collect();
             all.sort_unstable();
-            assert_eq!(
-                all,
-                (0..s.len()).collect::<Vec<_>>(),
-                "{}",
-                clusterer.name()
-            );
-            assert!(clusters.iter().all(|c| fits_jaws(&s, c)));
-            assert!(separability_conflicts(&s, &clusters).is_empty());
+            assert_eq!(all, (0..s.len()).collect::<Vec<_>>(), "{name}");
+            assert!(clusters.iter().all(|c| fits_jaws(&s, c)), "{name}");
+            assert!(separability_conflicts(&s, &clusters).is_empty(), "{name}");
+            assert!(verify_clustering(&s, &outcome.value).is_empty(), "{name}");
             for cluster in &outcome.value.clusters {
                 for pusher in &pushers {
-                    let plan = pusher.plan(&s, cluster).unwrap().value;
-                    // Every non-central object is pushed or skipped with a reason.
-                    assert!(plan.pushes.len() + plan.skipped.len() + 1 >= cluster.len());
+                    let answer = pusher.plan(&s, cluster).unwrap();
+                    let name = pusher.name();
+                    assert!(
+                        claims(&answer.status, &pusher.abilities()),
+                        "{name}: {:?} {:?}",
+                        answer.status,
+                        cluster
+                    );
+                    let plan = answer.value;
+                    if !answer.status.has_answer() {
+                        assert!(plan.pushes.is_empty(), "{name}: {:?}", answer.status);
+                    }
+                    // Every object but the one the others are pushed toward is pushed or
+                    // skipped with a reason, and only members are pushed.
+                    assert!(
+                        plan.pushes.len() + plan.skipped.len() + 1 >= cluster.len(),
+                        "{name}"
+                    );
+                    assert!(
+                        plan.pushes.iter().all(|p| cluster.contains(&p.object)),
+                        "{name}"
+                    );
                     let after = predict(&s, &plan.pushes).unwrap();
                     for grasper in &graspers {
-                        if let Some(grasp) = grasper.plan(&after, cluster).unwrap().value {
-                            assert!(grasp.objects.iter().any(|id| cluster.contains(id)));
-                            assert!(grasp.jaws.opening <= s.gripper().stroke + 1e-12);
+                        let answer = grasper.plan(&after, cluster).unwrap();
+                        let name = grasper.name();
+                        assert_eq!(answer.value.is_some(), answer.status.has_answer(), "{name}");
+                        assert!(claims(&answer.status, &grasper.abilities()), "{name}");
+                        if let Some(grasp) = answer.value {
+                            assert!(
+                                grasp.objects.iter().any(|id| cluster.contains(id)),
+                                "{name}"
+                            );
+                            assert!(grasp.jaws.opening <= s.gripper().stroke + 1e-12, "{name}");
                         }
                     }
                 }
             }
         }
         // Unknown ids are misuse, reported as errors.
-        assert!(pushers[0].plan(&s, &[ObjectId(999)]).is_err());
-        assert!(graspers[1].plan(&s, &[ObjectId(999)]).is_err());
+        for pusher in &pushers {
+            assert!(
+                pusher.plan(&s, &[ObjectId(999)]).is_err(),
+                "{}",
+                pusher.name()
+            );
+        }
+        for grasper in &graspers {
+            assert!(
+                grasper.plan(&s, &[ObjectId(999)]).is_err(),
+                "{}",
+                grasper.name()
+            );
+        }
     }
 }
 

@@ -82,11 +82,13 @@ struct Search<'a> {
 pub(super) fn plan(socp: &Socp, scene: &Scene, cluster: &[ObjectId]) -> Result<Outcome<PushPlan>> {
     let started = Instant::now();
     let members = scene.indices_of(cluster)?;
+    // Nothing to push. The answer is trivially the best, but the status claims no more than the
+    // planner's abilities say it can (`BestFound`, as for every row it finds).
     if members.len() < 2 {
         return Ok(finish(
             started,
             PushPlan::default(),
-            Status::Optimal,
+            Status::BestFound,
             None,
             Vec::new(),
         ));
