@@ -5,6 +5,7 @@ mod architecture;
 mod baselines;
 mod cli;
 mod clustering_milp;
+mod executors;
 mod experiments;
 mod fuzz;
 mod generator;

@@ -30,7 +30,7 @@ fn fixture_plan() -> Plan {
 }
 
 /// The example configuration pointed at the fakes, with short timeouts.
-fn config_for(controller: &FakeController, gripper: &FakeGripper) -> RobotConfig {
+pub(crate) fn config_for(controller: &FakeController, gripper: &FakeGripper) -> RobotConfig {
     let mut config = example_config();
     config.controller.host = "127.0.0.1".to_string();
     config.controller.script_port = controller.script_port();
@@ -43,14 +43,17 @@ fn config_for(controller: &FakeController, gripper: &FakeGripper) -> RobotConfig
     config
 }
 
-fn fakes(controller: ControllerFaults, gripper: GripperFaults) -> (FakeController, FakeGripper) {
+pub(crate) fn fakes(
+    controller: ControllerFaults,
+    gripper: GripperFaults,
+) -> (FakeController, FakeGripper) {
     (
         FakeController::start(controller).unwrap(),
         FakeGripper::start(gripper).unwrap(),
     )
 }
 
-fn live_runner(config: &RobotConfig) -> StepRunner<Live> {
+pub(crate) fn live_runner(config: &RobotConfig) -> StepRunner<Live> {
     StepRunner::new(
         Translator::new(config.clone()).unwrap(),
         Live::connect(config).unwrap(),
@@ -475,7 +478,7 @@ fn the_cli_reports_a_fault_and_keeps_the_record_of_completed_steps() {
 
 /// The observations an ideal run of push-mog on the fixture scene sees, replayed one per call by a
 /// shell command; returns the command and the ideal run.
-fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
+pub(crate) fn replayed_observations(name: &str) -> (Observation, Plan, Policy) {
     let scene = pushmog::json::read_scene(&fixture("ur5/scene.json")).unwrap();
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
     let mut ideal = policy.ideal();

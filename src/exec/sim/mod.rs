@@ -235,6 +235,15 @@ impl Sim {
     }
 }
 
+impl Sim {
+    /// The table's workspace, or misuse before [`Executor::reset`] gave a table.
+    fn table(&self) -> Result<&crate::scene::Workspace> {
+        self.workspace
+            .as_ref()
+            .ok_or_else(|| Error::misuse("sim executor", "act before reset(): no table was given"))
+    }
+}
+
 impl Executor for Sim {
     fn name(&self) -> &'static str {
         "sim"
@@ -267,6 +276,7 @@ impl Executor for Sim {
     }
 
     fn push(&mut self, push: &Push) -> Result<Option<Landing>> {
+        self.table()?;
         let Some(target) = self.prisms.iter().position(|p| p.id == push.object) else {
             return Ok(None);
         };
@@ -304,6 +314,7 @@ impl Executor for Sim {
     }
 
     fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult> {
+        self.table()?;
         let s = self.settings.clone();
 
         let mut stage = match self.lower_and_close(grasp) {
@@ -342,9 +353,7 @@ impl Executor for Sim {
     }
 
     fn observe(&mut self) -> Result<Scene> {
-        let workspace = self.workspace.clone().ok_or_else(|| {
-            Error::misuse("sim executor", "act before reset(): no table was given")
-        })?;
+        let workspace = self.table()?.clone();
         let s = &self.settings;
         let mut objects: Vec<Object> = Vec::new();
         let mut truth: Vec<Object> = Vec::new();
