@@ -137,6 +137,49 @@ fn small_scene(n: usize, seed: u64) -> Scene {
 
 #[test]
 fn milp_matches_brute_force_on_60_small_instances() {
+    matches_brute_force(MilpSettings::default().backend);
+}
+
+/// HiGHS (`.ci/highs`): the same optima as brute force, and on 34-object scenes the same optimum
+/// as the default backend.
+#[cfg(feature = "highs")]
+#[test]
+fn highs_matches_brute_force_and_the_default_backend() {
+    use pushmog::cluster::MilpBackend;
+    matches_brute_force(MilpBackend::Highs);
+    for seed in 1..=5 {
+        let scene =
+            generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
+        let solve = |backend| {
+            let settings = MilpSettings {
+                backend,
+                ..MilpSettings::default()
+            };
+            Milp::new(settings, Problem::shared_default())
+                .unwrap()
+                .cluster(&scene)
+                .unwrap()
+        };
+        let (highs, default) = (
+            solve(MilpBackend::Highs),
+            solve(MilpSettings::default().backend),
+        );
+        assert_eq!(highs.status, Status::Optimal, "seed {seed}");
+        assert_eq!(default.status, Status::Optimal, "seed {seed}");
+        let (a, b) = (
+            highs.stats.objective.unwrap(),
+            default.stats.objective.unwrap(),
+        );
+        assert!(
+            (a - b).abs() <= 1e-6 * b.abs().max(1.0),
+            "seed {seed}: highs {a}, default {b}"
+        );
+        assert!(verify_clustering(&scene, &highs.value).is_empty());
+    }
+}
+
+/// The MILP with `backend` proves, on 60 small instances, the optimum brute force finds.
+fn matches_brute_force(backend: pushmog::cluster::MilpBackend) {
     let (mut checked, mut grouped, mut separability_binds) = (0, 0, 0);
     for seed in 0..30u64 {
         let n = 5 + (seed as usize % 5); // 5 to 9 objects
@@ -147,6 +190,7 @@ fn milp_matches_brute_force_on_60_small_instances() {
                 objective,
                 max_cluster_size: n,
                 max_diameter: f64::INFINITY,
+                backend,
                 ..MilpSettings::default()
             };
             let outcome = Milp::new(settings.clone(), Problem::shared_default())
