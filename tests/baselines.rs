@@ -483,17 +483,8 @@ fn a_request_for_several_finds_the_pairs_the_full_search_finds() {
 fn misuse_and_missing_features_are_their_own_errors() {
     use pushmog::Error;
     use pushmog::exec::{Executor, Ideal};
-    use pushmog::grasp::{Grasp, GraspModel, JawPose};
-    let grasp = Grasp {
-        jaws: JawPose {
-            center: Point2::new(0.1, 0.1),
-            angle: 0.0,
-            opening: 0.08,
-        },
-        objects: vec![ObjectId(0)],
-        width: 0.03,
-        margin: 0.01,
-    };
+    use pushmog::grasp::GraspModel;
+    let grasp = crate::support::stray_grasp();
     let mut ideal = Ideal::new(GraspModel::default());
     assert!(matches!(ideal.grasp(&grasp), Err(Error::Misuse { .. })));
     if !cfg!(feature = "highs") {

@@ -3,32 +3,21 @@
 //! observations replayed from an ideal run). Acting before a table is given is misuse; a whole run
 //! passes the independent verifier and is recorded under the executor's name.
 
-use nalgebra::Point2;
 use pushmog::error::Error;
 use pushmog::exec::ur5::Ur5;
 use pushmog::exec::ur5::fake::{ControllerFaults, GripperFaults};
 use pushmog::exec::{Executor, Sim, SimSettings};
-use pushmog::grasp::{Grasp, JawPose};
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::Policy;
-use pushmog::scene::{ObjectId, Scene};
+use pushmog::scene::Scene;
 
+use crate::support::stray_grasp;
 use crate::ur5::{config_for, fakes, live_runner, replayed_observations};
 
 /// The checks every executor passes, `name` its name, on a run of `policy` from `scene`.
 fn conforms(executor: &mut dyn Executor, name: &str, policy: &Policy, scene: &Scene) -> RunStatus {
     assert_eq!(executor.name(), name);
-    let grasp = Grasp {
-        jaws: JawPose {
-            center: Point2::new(0.1, 0.1),
-            angle: 0.0,
-            opening: 0.08,
-        },
-        objects: vec![ObjectId(0)],
-        width: 0.03,
-        margin: 0.01,
-    };
-    let early = executor.grasp(&grasp);
+    let early = executor.grasp(&stray_grasp());
     assert!(
         matches!(early, Err(Error::Misuse { .. })),
         "{name}: {early:?}"

@@ -49,3 +49,18 @@ pub fn boxes(width: f64, depth: f64, at: &[(f64, f64)]) -> Scene {
         .collect();
     Scene::from_parts(Workspace::new(0.5, 0.4), Gripper::default(), objects).unwrap()
 }
+
+/// A grasp of object 0 at (0.1, 0.1), jaws open 80 mm: something to ask of an executor before it
+/// was given a table.
+pub fn stray_grasp() -> pushmog::grasp::Grasp {
+    pushmog::grasp::Grasp {
+        jaws: pushmog::grasp::JawPose {
+            center: nalgebra::Point2::new(0.1, 0.1),
+            angle: 0.0,
+            opening: 0.08,
+        },
+        objects: vec![pushmog::scene::ObjectId(0)],
+        width: 0.03,
+        margin: 0.01,
+    }
+}

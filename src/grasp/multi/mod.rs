@@ -116,7 +116,7 @@ impl MultiObject {
             .judge(scene, jaws, pushed, failures_allowed(minimum, samples));
         matches!(&judgement.nominal, Squeeze::Held { objects, .. }
             if members.iter().all(|m| objects.contains(m))
-                && (objects.len() < 2 || !objects.iter().any(|&i| self.near_edge(scene, i, jaws))))
+                && !self.too_near_the_edge(scene, objects, jaws))
             && judgement.probability() >= minimum
     }
 
@@ -243,7 +243,7 @@ impl MultiObject {
                 *refusals.entry("too few objects").or_default() += 1;
                 continue;
             }
-            if caught.len() >= 2 && caught.iter().any(|&i| self.near_edge(scene, i, jaws)) {
+            if self.too_near_the_edge(scene, &caught, jaws) {
                 *refusals.entry("near the workspace edge").or_default() += 1;
                 continue;
             }
@@ -358,6 +358,13 @@ impl MultiObject {
 const CLEARANCE_CAP: f64 = 0.05;
 
 impl MultiObject {
+    /// Whether a grasp at `jaws` that holds `held` (scene indices) is refused for the edge: it
+    /// holds two or more objects and one of them is [`MultiObject::near_edge`]. The search and the
+    /// row judge ([`MultiObject::carries`]) both ask this.
+    fn too_near_the_edge(&self, scene: &Scene, held: &[usize], jaws: &JawPose) -> bool {
+        held.len() >= 2 && held.iter().any(|&i| self.near_edge(scene, i, jaws))
+    }
+
     /// Whether object `index` lies within `edge_margin` of the workspace's edge (along the plates
     /// of `jaws` only, with `edge_along_plates`).
     fn near_edge(&self, scene: &Scene, index: usize, jaws: &JawPose) -> bool {
