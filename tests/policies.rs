@@ -131,13 +131,13 @@ fn a_used_policy_plans_as_a_fresh_one() {
         used.run(&scene(1), &mut executor, 1).unwrap();
         let table = scene(3);
         // The table less the first trip's grasp, as the next trip finds it.
-        let first = used.plan_trip(&table).unwrap().value.unwrap();
+        let first = used.plan_trip(&table).unwrap().into_trip().unwrap();
         let later = table.without(&first.grasp.objects);
         used.plan_trip(&table).unwrap();
         let fresh = Policy::new(kind, PolicySettings::default()).unwrap();
         let trip = |policy: &Policy| {
             let mut context = TripContext::new(5);
-            policy.plan_trip_with(&later, &mut context).unwrap().value
+            policy.plan_trip_with(&later, &mut context).unwrap().trip
         };
         assert_eq!(trip(&used), trip(&fresh), "{kind}");
         let whole = |policy: &Policy| {
@@ -388,7 +388,7 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
         let trip = policy
             .plan_trip_with(&table, &mut context)
             .unwrap()
-            .value
+            .trip
             .expect("a trip for a non-empty table");
         let mut robot = policy.ideal();
         robot.reset(&table).unwrap();
@@ -611,7 +611,7 @@ fn first_trip_where(
         let trip = policy
             .plan_trip_with(&table, &mut pushmog::policy::TripContext::new(seed))
             .unwrap()
-            .value?;
+            .into_trip()?;
         wanted(&trip).then_some((table, seed, trip))
     })
 }
@@ -638,7 +638,7 @@ fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
     let again = policy
         .plan_trip_with(&table, &mut context)
         .unwrap()
-        .value
+        .trip
         .expect("a trip without the push");
     assert!(again.pushes.iter().all(|p| p.object != landed.object));
     assert!(
@@ -654,8 +654,8 @@ fn a_push_that_landed_on_an_unseen_object_is_not_repeated() {
         push: landed.clone(),
         on: table.objects()[0].id,
     });
-    let same = policy.plan_trip_with(&table, &mut context).unwrap().value;
-    assert_eq!(same, Some(first));
+    let same = policy.plan_trip_with(&table, &mut context).unwrap().trip;
+    assert_eq!(same, Ok(first));
 }
 
 /// Objects whose multi-object grasps carried nothing twice are taken one at a time: the trip planned
@@ -681,7 +681,7 @@ fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
     let again = policy
         .plan_trip_with(&table, &mut context)
         .unwrap()
-        .value
+        .trip
         .expect("a trip without that multi-object grasp");
     let mut objects = again.grasp.objects.clone();
     objects.sort_unstable();
@@ -789,7 +789,7 @@ fn a_broken_row_is_pushed_whole_before_part_of_it_is_taken() {
     use pushmog::policy::TripContext;
     let row = boxes(0.007, 0.05, &[(0.15, 0.2), (0.17, 0.2), (0.19, 0.2)]);
     let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
-    let trip = policy.plan_trip(&row).unwrap().value.unwrap();
+    let trip = policy.plan_trip(&row).unwrap().trip.unwrap();
     let cluster = &trip.clustering.clusters[trip.cluster.unwrap()];
     assert_eq!(cluster.len(), 3, "the three bars form one cluster");
     assert_eq!(
@@ -1027,4 +1027,40 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
     assert!(batched >= 1, "no trip pushed two rows or more");
     // Plans applied exactly: the rows come out as planned and are taken together.
     assert_eq!(taken_later, rows);
+}
+
+/// No trip, and why, typed: an empty table; a table whose every object is wider than the jaw gap
+/// (a cluster of them for the clustering policies). The closed loop does not ask on such a table:
+/// it stops at once, every object too wide.
+#[test]
+fn no_trip_says_why_typed() {
+    use crate::support::boxes;
+    use pushmog::plan::StopReason;
+    use pushmog::policy::NoTrip;
+    let empty = boxes(0.05, 0.05, &[]);
+    let wide = boxes(0.12, 0.12, &[(0.1, 0.1), (0.3, 0.25)]);
+    assert!((0..wide.len()).all(|i| !wide.is_graspable(i)));
+    for kind in PolicyKind::ALL {
+        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+        let none = policy.plan_trip(&empty).unwrap();
+        assert_eq!(none.trip, Err(NoTrip::EmptyTable), "{kind}");
+        let why = policy.plan_trip(&wide).unwrap().trip.unwrap_err();
+        let expected = match kind {
+            PolicyKind::Sog => NoTrip::NothingFitsTheJaws,
+            _ => NoTrip::NoClusterFitsTheJaws,
+        };
+        assert_eq!(why, expected, "{kind}");
+        let plan = run(kind, &wide, 1);
+        assert!(
+            matches!(
+                plan.status,
+                RunStatus::Stopped {
+                    reason: StopReason::AllTooWide,
+                    ..
+                }
+            ),
+            "{kind}"
+        );
+        assert!(plan.failed_attempts.is_empty(), "{kind}");
+    }
 }

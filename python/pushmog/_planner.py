@@ -18,7 +18,13 @@ POLICIES = tuple(_native.policies())
 
 class NoTrip(PushmogError):
     """Raised by :meth:`Planner.plan_trip` with ``strict=True`` when no trip can be planned; the
-    reason is the message."""
+    reason is the message, and :attr:`reason` is it typed as Rust's ``NoTrip`` writes it: a name
+    (``"empty_table"``, ``"nothing_fits_the_jaws"``, ``"no_cluster_fits_the_jaws"``) or a dict
+    with one key (``"no_grasp_of_object"``, ``"no_grasp_of_cluster"``)."""
+
+    def __init__(self, message: str, reason: Any = None) -> None:
+        super().__init__(message)
+        self.reason = reason
 
 
 class TripContext:
@@ -97,7 +103,7 @@ class Planner:
             if strict:
                 status = answer["status"]
                 reason = status.get("failed", {}).get("reason") if isinstance(status, dict) else status
-                raise NoTrip(str(reason))
+                raise NoTrip(str(reason), answer.get("no_trip"))
             return None
         return TripPlan(answer["trip"], answer["status"], float(answer["seconds"]))
 

@@ -294,7 +294,8 @@ impl Planner {
     }
 
     /// Plans the next trip on `scene` as it is. Returns JSON `{"trip": …, "status": …,
-    /// "seconds": …}`: `trip` is `null` when there is none, and then `status` says why.
+    /// "seconds": …}`: `trip` is `null` when there is none, and then `status` says why in words
+    /// and `no_trip` says why typed (`Policy::plan_trip`'s `NoTrip`).
     #[pyo3(signature = (scene, context = None))]
     fn plan_trip(
         &self,
@@ -311,11 +312,19 @@ impl Planner {
             None => py.detach(|| self.policy.plan_trip(&scene.scene)),
         };
         let planned = check(planned)?;
-        let answer = serde_json::json!({
-            "trip": planned.value,
-            "status": planned.status,
+        let status = planned.status();
+        let (trip, no_trip) = match planned.trip {
+            Ok(trip) => (Some(trip), None),
+            Err(no_trip) => (None, Some(no_trip)),
+        };
+        let mut answer = serde_json::json!({
+            "trip": trip,
+            "status": status,
             "seconds": planned.stats.seconds,
         });
+        if let Some(no_trip) = no_trip {
+            answer["no_trip"] = serde_json::json!(no_trip);
+        }
         Ok(to_json(&answer))
     }
 

@@ -171,8 +171,9 @@ def test_settings_are_applied_and_checked(small_scene):
 def test_empty_table_has_no_trip():
     empty = pushmog.Scene.from_objects([])
     assert pushmog.Planner("push-mog").plan_trip(empty) is None
-    with pytest.raises(pushmog.NoTrip, match="empty"):
+    with pytest.raises(pushmog.NoTrip, match="empty") as raised:
         pushmog.Planner("push-mog").plan_trip(empty, strict=True)
+    assert raised.value.reason == "empty_table"
 
 
 def test_failed_grasps_are_not_proposed_again(scene):

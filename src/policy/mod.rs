@@ -381,6 +381,7 @@ fn multi_object(settings: &PolicySettings, problem: &Arc<Problem>) -> Result<Mul
 mod ahead;
 mod context;
 mod correct;
+mod no_trip;
 mod price;
 mod run;
 mod separate;
@@ -389,6 +390,7 @@ mod trip;
 
 pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
+pub use no_trip::{NoTrip, TripAnswer};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
 pub use run::{Run, RunTiming, run_seconds};
 pub use settings::{LoopSettings, PolicySettings};

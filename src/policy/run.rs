@@ -114,11 +114,13 @@ impl<'a> Run<'a> {
         if let Some(seconds) = planned.stats.counter("clustering_seconds") {
             self.timing.clustering.push(seconds);
         }
-        let Some(trip) = planned.value else {
-            self.failed_attempts
-                .push(super::trip::failure_reason(&planned.status));
-            self.in_a_row += 1;
-            return Ok(None);
+        let trip = match planned.trip {
+            Ok(trip) => trip,
+            Err(no_trip) => {
+                self.failed_attempts.push(no_trip.to_string());
+                self.in_a_row += 1;
+                return Ok(None);
+            }
         };
         let run_settings = &self.policy.settings().run;
         let mut record = Trip {

@@ -19,12 +19,12 @@ use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 use super::context::{Landing, TripContext};
-use super::{Policy, PolicyClusterer, PolicyPusher};
+use super::{NoTrip, Policy, PolicyClusterer, PolicyPusher, TripAnswer};
 use crate::cluster::Clustering;
 use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspRequest, JawPose};
-use crate::outcome::{Outcome, Stats, Status};
+use crate::outcome::{Stats, Status};
 use crate::plan::AheadRow;
 use crate::push::fork::finger_footprints;
 use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
@@ -77,11 +77,11 @@ pub(super) type Drafted = (Vec<Push>, Grasp, Option<f64>, Option<Status>);
 
 impl Policy {
     /// Plans the next trip on `scene` as it is, with a fresh [`TripContext`] of seed 0: the pushes
-    /// and the grasp, or (value `None`, status [`Status::Failed`]) why there is none.
+    /// and the grasp, or why there is none ([`NoTrip`]).
     ///
     /// # Errors
     /// Misuse only (invalid settings are refused when the policy is built).
-    pub fn plan_trip(&self, scene: &Scene) -> Result<Outcome<Option<TripPlan>>> {
+    pub fn plan_trip(&self, scene: &Scene) -> Result<TripAnswer> {
         self.plan_trip_with(scene, &mut TripContext::new(0))
     }
 
@@ -94,11 +94,11 @@ impl Policy {
         &self,
         scene: &Scene,
         context: &mut TripContext,
-    ) -> Result<Outcome<Option<TripPlan>>> {
+    ) -> Result<TripAnswer> {
         let started = Instant::now();
         let mut clustering_seconds = None;
         let drafted = if scene.is_empty() {
-            Err("the table is empty".to_string())
+            Err(NoTrip::EmptyTable)
         } else {
             match &self.clusterer {
                 None => self.draft_single(scene, &mut context.rng, &context.failed)?,
@@ -119,17 +119,9 @@ impl Policy {
             counters,
             ..Stats::default()
         };
-        Ok(match drafted {
-            Ok(trip) => Outcome {
-                value: Some(trip),
-                status: Status::Heuristic,
-                stats,
-            },
-            Err(reason) => Outcome {
-                value: None,
-                status: Status::Failed { reason },
-                stats,
-            },
+        Ok(TripAnswer {
+            trip: drafted,
+            stats,
         })
     }
 
@@ -138,17 +130,17 @@ impl Policy {
         observed: &Scene,
         rng: &mut SeededRng,
         avoid: &[JawPose],
-    ) -> Result<std::result::Result<TripPlan, String>> {
+    ) -> Result<std::result::Result<TripPlan, NoTrip>> {
         let graspable: Vec<usize> = (0..observed.len())
             .filter(|&i| observed.is_graspable(i))
             .collect();
         if graspable.is_empty() {
-            return Ok(Err("no object narrower than the jaw gap".to_string()));
+            return Ok(Err(NoTrip::NothingFitsTheJaws));
         }
         // A random object first, then the others in turn if its grasps all failed before.
         let first = rng.index(graspable.len());
         let order = graspable[first..].iter().chain(&graspable[..first]);
-        let mut reason = String::new();
+        let mut first_failure = None;
         for &index in order {
             let target = observed.objects()[index].id;
             let outcome = self
@@ -168,8 +160,11 @@ impl Policy {
                         push_statuses: Vec::new(),
                     }));
                 }
-                None if reason.is_empty() => {
-                    reason = format!("object {target}: {}", failure_reason(&outcome.status));
+                None if first_failure.is_none() => {
+                    first_failure = Some(NoTrip::NoGraspOfObject {
+                        object: target,
+                        grasp: outcome.status,
+                    });
                 }
                 None => {}
             }
@@ -177,7 +172,7 @@ impl Policy {
                 break;
             }
         }
-        Ok(Err(reason))
+        Ok(Err(first_failure.expect("at least one graspable object was tried")))
     }
 
     /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted
@@ -191,7 +186,7 @@ impl Policy {
         clusterer: &dyn PolicyClusterer,
         context: &mut TripContext,
         clustering_seconds: &mut Option<f64>,
-    ) -> Result<std::result::Result<TripPlan, String>> {
+    ) -> Result<std::result::Result<TripPlan, NoTrip>> {
         let started = Instant::now();
         let clustered = clusterer.cluster_remembering(observed, &mut context.clusterings)?;
         *clustering_seconds = Some(started.elapsed().as_secs_f64());
@@ -209,9 +204,7 @@ impl Policy {
             })
             .collect();
         if candidates.is_empty() {
-            return Ok(Err(
-                "no cluster with an object narrower than the jaw gap".to_string()
-            ));
+            return Ok(Err(NoTrip::NoClusterFitsTheJaws));
         }
         if self.settings.pricing.push_ahead
             && let Some(pusher) = self.pusher.as_deref()
@@ -273,11 +266,10 @@ impl Policy {
             let separating = (vec![push], grasp, None, Some(Status::Heuristic));
             return Ok(Ok(draft(separating, skipped)));
         }
-        Ok(Err(format!(
-            "cluster {:?}: {}",
-            members.iter().map(|id| id.0).collect::<Vec<_>>(),
-            failure_reason(&single.status)
-        )))
+        Ok(Err(NoTrip::NoGraspOfCluster {
+            members,
+            grasp: single.status,
+        }))
     }
 
     /// Pushes for `members` and the multi-object grasp planned on the table predicted after them,
@@ -480,9 +472,3 @@ fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
     })
 }
 
-pub(super) fn failure_reason(status: &Status) -> String {
-    match status {
-        Status::Failed { reason } => reason.clone(),
-        other => format!("{other:?}"),
-    }
-}
