@@ -266,7 +266,7 @@ fn stranded_bars_are_cleared_without_identical_retries() {
                 .trips
                 .iter()
                 .filter(|t| t.carried.is_empty())
-                .map(|t| t.grasp.jaws)
+                .map(|t| t.plan.grasp.jaws)
                 .collect();
             for (k, a) in failed.iter().enumerate() {
                 assert!(
@@ -348,6 +348,7 @@ fn objects_stuck_together_are_pushed_apart() {
             }
             assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
             let openings: Vec<f64> = plan.trips[0]
+                .plan
                 .pushes
                 .iter()
                 .map(|p| p.fork.opening)
@@ -401,16 +402,8 @@ fn an_outside_robot_clears_a_perturbed_table_one_trip_at_a_time() {
         }
         let record = Trip {
             scene: table.to_spec().into(),
-            clustering: trip.clustering,
-            cluster: trip.cluster,
-            pushes: trip.pushes,
-            skipped_pushes: trip.skipped_pushes,
+            plan: trip,
             looks: Vec::new(),
-            grasp: trip.grasp,
-            judged: trip.judged,
-            ahead: trip.ahead,
-            ahead_rows: trip.ahead_rows,
-            push_statuses: trip.push_statuses,
             carried,
             fault: None,
             lost: Vec::new(),
@@ -501,7 +494,7 @@ fn inconsistent_records_are_refused() {
         .x += 0.01;
     broken.push(("a look that is not the table after the pushes", p));
     let mut p = plan.clone();
-    p.trips[looked].looks[0].after_pushes = p.trips[looked].pushes.len() + 1;
+    p.trips[looked].looks[0].after_pushes = p.trips[looked].plan.pushes.len() + 1;
     broken.push(("a look after pushes the trip does not have", p));
     let mut p = plan.clone();
     let mut stranger = ObjectSpec::clone(&p.trips[looked].scene.objects[0]);
@@ -575,17 +568,20 @@ fn each_trip_records_the_status_of_the_pushes_it_made() {
         (PolicyKind::PushMog, &["heuristic"][..]),
     ] {
         let plan = run(kind, &scene(3), 4);
-        assert!(plan.trips.iter().any(|t| !t.pushes.is_empty()));
+        assert!(plan.trips.iter().any(|t| !t.plan.pushes.is_empty()));
         for trip in &plan.trips {
-            assert_eq!(trip.pushes.is_empty(), trip.push_statuses.is_empty());
-            assert!(trip.push_statuses.len() <= trip.pushes.len());
-            for status in &trip.push_statuses {
+            assert_eq!(
+                trip.plan.pushes.is_empty(),
+                trip.plan.push_statuses.is_empty()
+            );
+            assert!(trip.plan.push_statuses.len() <= trip.plan.pushes.len());
+            for status in &trip.plan.push_statuses {
                 assert!(allowed.contains(&status.name()), "{kind:?}: {status:?}");
             }
         }
         let counts = plan.push_statuses();
         assert!(counts.get(allowed[0]).is_some_and(|&n| n > 0));
-        let total: usize = plan.trips.iter().map(|t| t.push_statuses.len()).sum();
+        let total: usize = plan.trips.iter().map(|t| t.plan.push_statuses.len()).sum();
         assert_eq!(counts.values().sum::<usize>(), total);
         let text = plan.to_json();
         let back: Plan = pushmog::json::from_json(&text, "plan").unwrap();
@@ -914,7 +910,7 @@ fn the_expected_time_price_pushes_only_when_it_pays() {
     let not_paying = |plan: &Plan| {
         plan.trips
             .iter()
-            .flat_map(|t| &t.skipped_pushes)
+            .flat_map(|t| &t.plan.skipped_pushes)
             .filter(|s| matches!(s.reason, SkipReason::DoesNotPay { saving } if saving <= 0.0))
             .count()
     };
@@ -929,7 +925,7 @@ fn the_expected_time_price_pushes_only_when_it_pays() {
     assert!(
         far.trips
             .iter()
-            .any(|t| !t.pushes.is_empty() && t.judged.is_some())
+            .any(|t| !t.plan.pushes.is_empty() && t.plan.judged.is_some())
     );
     let paper = run(0.0, 0.3, TripObjective::ObjectsPerTrip);
     assert!(paper.push_count() > 0);
@@ -973,24 +969,26 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
             generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
         let plan = run(&scene, 1.0, ahead_rows);
         for (k, trip) in plan.trips.iter().enumerate() {
-            if trip.pushes.is_empty() {
+            if trip.plan.pushes.is_empty() {
                 continue;
             }
             assert!(
-                trip.pushes
+                trip.plan
+                    .pushes
                     .iter()
-                    .all(|p| !trip.grasp.objects.contains(&p.object))
+                    .all(|p| !trip.plan.grasp.objects.contains(&p.object))
             );
             assert!(trip.looks.is_empty());
             // The rows: the trip's clusters holding objects it pushed ahead.
             let trip_rows: Vec<Vec<_>> = trip
+                .plan
                 .clustering
                 .clusters
                 .iter()
                 .map(|c| {
                     c.iter()
                         .copied()
-                        .filter(|id| trip.ahead.contains(id))
+                        .filter(|id| trip.plan.ahead.contains(id))
                         .collect()
                 })
                 .filter(|row: &Vec<_>| !row.is_empty())
@@ -1001,14 +999,14 @@ fn rows_pushed_ahead_are_taken_by_a_later_trip_without_a_look_of_their_own() {
             // grasped (or pushed again) by now.
             let earlier: Vec<_> = plan.trips[..k]
                 .iter()
-                .flat_map(|t| t.ahead.clone())
+                .flat_map(|t| t.plan.ahead.clone())
                 .collect();
             assert!(earlier.iter().all(|id| {
                 plan.trips[..=k]
                     .iter()
-                    .any(|t| t.grasp.objects.contains(id))
+                    .any(|t| t.plan.grasp.objects.contains(id))
                     || !trip.scene.ids().any(|s| s == *id)
-                    || trip.pushes.iter().any(|p| p.object == *id)
+                    || trip.plan.pushes.iter().any(|p| p.object == *id)
             }));
             let later = &plan.trips[k + 1..];
             for row in &trip_rows {

@@ -488,7 +488,7 @@ fn flush_pushes_meet_a_face_of_their_object_flat() {
         assert!(matches!(plan.status, RunStatus::Cleared));
         for trip in &plan.trips {
             let table = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
-            for push in &trip.pushes {
+            for push in &trip.plan.pushes {
                 pushes += 1;
                 let Some(index) = table.index_of(push.object) else {
                     continue;
@@ -514,10 +514,14 @@ fn flush_pushes_meet_a_face_of_their_object_flat() {
     // friction cone the fingers would slide along the face) and names one further off.
     let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 0).unwrap();
     let plan = policy.run(&scene, &mut policy.ideal(), 0).unwrap();
-    let trip = plan.trips.iter().find(|t| !t.pushes.is_empty()).unwrap();
+    let trip = plan
+        .trips
+        .iter()
+        .find(|t| !t.plan.pushes.is_empty())
+        .unwrap();
     let skewed = |degrees: f64| {
         let mut trip = trip.clone();
-        let push = &mut trip.pushes[0];
+        let push = &mut trip.plan.pushes[0];
         push.fork.jaw_angle = push.direction.y.atan2(push.direction.x)
             + std::f64::consts::FRAC_PI_2
             + degrees.to_radians();

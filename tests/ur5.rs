@@ -107,13 +107,14 @@ fn a_whole_plan_reaches_the_fakes_step_by_step() {
     // Three steps per push (two when the jaws already stand at its opening): its move above the
     // start flows into its descent, and its rise into the next move, one program each; six per
     // grasp; one more where the rise stops for a look.
-    let pushes: usize = plan.trips.iter().map(|t| t.pushes.len()).sum();
+    let pushes: usize = plan.trips.iter().map(|t| t.plan.pushes.len()).sum();
     let looks: usize = plan.trips.iter().map(|t| t.looks.len()).sum();
     let jaws_kept: usize = plan
         .trips
         .iter()
         .map(|t| {
-            t.pushes
+            t.plan
+                .pushes
                 .windows(2)
                 .filter(|p| p[0].fork.opening == p[1].fork.opening)
                 .count()
@@ -167,7 +168,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
     let policy = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
     let run = policy.run(&scene, &mut policy.ideal(), 4).unwrap();
     assert!(
-        run.trips.iter().any(|t| t.pushes.len() >= 2),
+        run.trips.iter().any(|t| t.plan.pushes.len() >= 2),
         "a trip with two pushes or more"
     );
     // push-mog-time: flush pushes with the jaws closed to one block, several rows pushed ahead in
@@ -179,7 +180,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
     let time = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
     let ahead = time.run(&scene, &mut time.ideal(), 4).unwrap();
     assert!(
-        ahead.trips.iter().any(|t| t.pushes.len() >= 2),
+        ahead.trips.iter().any(|t| t.plan.pushes.len() >= 2),
         "a trip pushing two rows ahead or more"
     );
     let mut jaws_left_out = 0;
@@ -189,14 +190,15 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
             let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();
             let looks: Vec<usize> = trip.looks.iter().map(|l| l.after_pushes).collect();
-            let steps = translator.trip(&scene, &trip.pushes, &looks, &trip.grasp, t + 1);
-            let mut paths = push_paths(&trip.pushes);
+            let steps = translator.trip(&scene, &trip.plan.pushes, &looks, &trip.plan.grasp, t + 1);
+            let mut paths = push_paths(&trip.plan.pushes);
             for &after in &looks {
                 paths[after - 1].look_after = true;
             }
-            let charged = model.trip_commands(gripper, &paths, &grasp_path(&trip.grasp, gripper));
+            let charged =
+                model.trip_commands(gripper, &paths, &grasp_path(&trip.plan.grasp, gripper));
             assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
-            jaws_left_out += 5 * trip.pushes.len() + 7 - charged.len();
+            jaws_left_out += 5 * trip.plan.pushes.len() + 7 - charged.len();
             blended += charged
                 .iter()
                 .filter(|c| matches!(c, Command::Through(_)))
@@ -521,8 +523,8 @@ fn the_closed_loop_replans_on_each_observation() {
     let run = policy.run(&first, &mut robot, 5).unwrap();
     assert_eq!(run.trips.len(), reference.trips.len());
     for (a, b) in run.trips.iter().zip(&reference.trips) {
-        assert_eq!(a.grasp, b.grasp);
-        assert_eq!(a.pushes, b.pushes);
+        assert_eq!(a.plan.grasp, b.plan.grasp);
+        assert_eq!(a.plan.pushes, b.plan.pushes);
         let (mut x, mut y) = (a.carried.clone(), b.carried.clone());
         x.sort_unstable();
         y.sort_unstable();
@@ -533,8 +535,8 @@ fn the_closed_loop_replans_on_each_observation() {
     assert_eq!(robot.trips().len(), run.trips.len());
     for (done, trip) in robot.trips().iter().zip(&run.trips) {
         assert_eq!(done.scene, trip.scene.to_spec());
-        assert_eq!(done.pushes, trip.pushes);
-        assert_eq!(done.grasp.as_ref(), Some(&trip.grasp));
+        assert_eq!(done.pushes, trip.plan.pushes);
+        assert_eq!(done.grasp.as_ref(), Some(&trip.plan.grasp));
         assert_eq!(done.carried, trip.carried);
     }
     let motions = robot
@@ -552,14 +554,14 @@ fn the_closed_loop_replans_on_each_observation() {
         .iter()
         .map(|trip| {
             let gripper = trip.scene.gripper.clone();
-            let mut paths = push_paths(&trip.pushes);
+            let mut paths = push_paths(&trip.plan.pushes);
             for look in &trip.looks {
                 paths[look.after_pushes - 1].look_after = true;
             }
             command_kinds(&model.trip_commands(
                 &gripper,
                 &paths,
-                &grasp_path(&trip.grasp, &gripper),
+                &grasp_path(&trip.plan.grasp, &gripper),
             ))
         })
         .collect();
@@ -806,8 +808,8 @@ fn a_closed_loop_that_stops_keeps_its_trips() {
     // before its grasp was done.
     assert!(last.grasp.is_none());
     for (done, trip) in finished.iter().zip(&reference.trips) {
-        assert_eq!(done.grasp.as_ref(), Some(&trip.grasp));
-        assert_eq!(done.pushes, trip.pushes);
+        assert_eq!(done.grasp.as_ref(), Some(&trip.plan.grasp));
+        assert_eq!(done.pushes, trip.plan.pushes);
     }
     assert_eq!(gripper_moves(&gripper).len(), 6);
 }

@@ -129,12 +129,12 @@ fn replay_scene(
     for (trip_index, trip) in plan.trips.iter().enumerate() {
         // The grasp was planned on the last table seen in the trip after the pushes that followed.
         let (seen, start) = trip.last_plan_scene();
-        let predicted = predict(&Scene::new(seen.to_spec())?, &trip.pushes[start..])?;
-        let mut grasps: Vec<(bool, Grasp)> = vec![(false, trip.grasp.clone())];
+        let predicted = predict(&Scene::new(seen.to_spec())?, &trip.plan.pushes[start..])?;
+        let mut grasps: Vec<(bool, Grasp)> = vec![(false, trip.plan.grasp.clone())];
         if settings.refused_per_trip > 0
-            && let Some(cluster) = trip.cluster
+            && let Some(cluster) = trip.plan.cluster
         {
-            let members = &trip.clustering.clusters[cluster];
+            let members = &trip.plan.clustering.clusters[cluster];
             for refused in policy
                 .refused_candidates(&predicted, members)?
                 .into_iter()

@@ -21,11 +21,7 @@ use serde::de::{Error as _, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::shared::{Lookup, SharedScene};
-use super::{AheadRow, Fault, Look, LostObject, Trip};
-use crate::cluster::Clustering;
-use crate::grasp::Grasp;
-use crate::outcome::Status;
-use crate::push::{Push, SkippedPush};
+use super::{Fault, Look, LostObject, Trip, TripPlan};
 use crate::scene::{ObjectId, ObjectSpec, Pose, SceneSpec};
 
 /// One object of a trip's scene, relative to the previous trip's scene.
@@ -59,31 +55,12 @@ pub struct TripRecord {
     /// The observation as a change from the previous trip's scene, object by object in order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene_change: Option<Vec<ObjectChange>>,
-    /// As [`Trip::clustering`].
-    pub clustering: Clustering,
-    /// As [`Trip::cluster`].
-    pub cluster: Option<usize>,
-    /// As [`Trip::pushes`].
-    pub pushes: Vec<Push>,
-    /// As [`Trip::skipped_pushes`].
-    pub skipped_pushes: Vec<SkippedPush>,
+    /// As [`Trip::plan`], its fields written inline.
+    #[serde(flatten)]
+    pub plan: TripPlan,
     /// As [`Trip::looks`], each scene as a change from the trip's scene.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub looks: Vec<LookRecord>,
-    /// As [`Trip::grasp`].
-    pub grasp: Grasp,
-    /// As [`Trip::judged`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub judged: Option<f64>,
-    /// As [`Trip::ahead`].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead: Vec<ObjectId>,
-    /// As [`Trip::ahead_rows`].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead_rows: Vec<AheadRow>,
-    /// As [`Trip::push_statuses`].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub push_statuses: Vec<Status>,
     /// As [`Trip::carried`].
     pub carried: Vec<ObjectId>,
     /// As [`Trip::fault`].
@@ -179,10 +156,7 @@ fn record(trips: &[Trip], k: usize) -> TripRecord {
     TripRecord {
         scene: scene_change.is_none().then(|| trip.scene.to_spec()),
         scene_change,
-        clustering: trip.clustering.clone(),
-        cluster: trip.cluster,
-        pushes: trip.pushes.clone(),
-        skipped_pushes: trip.skipped_pushes.clone(),
+        plan: trip.plan.clone(),
         looks: trip
             .looks
             .iter()
@@ -191,11 +165,6 @@ fn record(trips: &[Trip], k: usize) -> TripRecord {
                 scene_change: object_changes(&trip.scene, &look.scene),
             })
             .collect(),
-        grasp: trip.grasp.clone(),
-        judged: trip.judged,
-        ahead: trip.ahead.clone(),
-        ahead_rows: trip.ahead_rows.clone(),
-        push_statuses: trip.push_statuses.clone(),
         carried: trip.carried.clone(),
         fault: trip.fault,
         lost: trip.lost.clone(),
@@ -263,16 +232,8 @@ fn trip(
         .collect::<std::result::Result<Vec<Look>, String>>()?;
     Ok(Trip {
         scene,
-        clustering: record.clustering,
-        cluster: record.cluster,
-        pushes: record.pushes,
-        skipped_pushes: record.skipped_pushes,
+        plan: record.plan,
         looks,
-        grasp: record.grasp,
-        judged: record.judged,
-        ahead: record.ahead,
-        ahead_rows: record.ahead_rows,
-        push_statuses: record.push_statuses,
         carried: record.carried,
         fault: record.fault,
         lost: record.lost,

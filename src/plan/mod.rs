@@ -23,57 +23,69 @@ use crate::push::{Push, SkippedPush};
 use crate::scene::{ObjectId, SceneSpec};
 
 /// One trip of a run: plan on an observation, push, grasp, carry to the bin.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Trip {
     /// The observation this trip was planned on (objects unchanged since the trip before are
     /// shared with it).
-    #[schemars(with = "SceneSpec")]
     pub scene: SharedScene,
-    /// The clustering of that observation (empty for policies that do not cluster).
-    pub clustering: Clustering,
-    /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
-    pub cluster: Option<usize>,
-    /// The fork pushes, in execution order (corrective pushes planned on a later look included).
-    pub pushes: Vec<Push>,
-    /// Pushes that could not be planned, with their reasons.
-    pub skipped_pushes: Vec<SkippedPush>,
+    /// What the trip did, as planned on `scene` and amended at each look: its clustering and
+    /// cluster, its pushes in execution order (corrective pushes planned on a later look
+    /// included), the pushes not made, and the grasp, planned on the table predicted after the
+    /// pushes (`scene` after all of them, or, when the trip looked again, the last look's scene
+    /// after the pushes that follow it). `judged`, `ahead` and `ahead_rows` are the first plan's;
+    /// `push_statuses` holds the first plan's, then one per look whose corrective pushes were made
+    /// (empty in plans written before statuses were recorded).
+    pub plan: TripPlan,
     /// New observations made during the trip, in order, each after some of its pushes: what follows
     /// a look (corrective pushes, the grasp) was planned on it. Empty when the whole trip was
     /// planned on `scene`.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub looks: Vec<Look>,
-    /// The grasp, planned on the table predicted after the pushes: `scene` after all of them, or,
-    /// when the trip looked again, the last look's scene after the pushes that follow it.
-    pub grasp: Grasp,
-    /// For the trip's first plan (the policy's `TripPlan::judged`): the grasp planner's estimate
-    /// that the grasp its first pushes prepare carries all its objects (pushed trips only).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub judged: Option<f64>,
-    /// As the policy's `TripPlan::ahead`: the objects this trip's pushes arranged for later
-    /// trips' grasps (pushing ahead); the trip made no look for them.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead: Vec<ObjectId>,
-    /// As the policy's `TripPlan::ahead_rows`: those objects row by row, each with its grasp's
-    /// judged probability (absent in plans written before rows were recorded).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead_rows: Vec<AheadRow>,
-    /// The push planner's status for each of its answers whose pushes the trip made, in order:
-    /// the trip's first plan's (the policy's `TripPlan::push_statuses`), then one per look whose
-    /// corrective pushes were made. Empty without pushes and in plans written before statuses
-    /// were recorded.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub push_statuses: Vec<Status>,
     /// The objects the executor reports carried to the bin (empty for a failed grasp).
     pub carried: Vec<ObjectId>,
     /// Set when an action was stopped because the gripper came down on an object; the rest of the
     /// trip was not carried out.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<Fault>,
     /// Objects the executor first reported lost (outside the workspace, toppled, lying on another
     /// object) at an observation after this trip's actions began: at one of its looks, or at the
     /// observation that followed it. Empty with the ideal executor.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lost: Vec<LostObject>,
+}
+
+/// A trip as a policy plans it: what to push, then where to grasp (`policy::Policy::plan_trip`).
+/// A run's [`Trip`] holds one as it was carried out, amended by the looks during the trip, with
+/// what the executor reported.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct TripPlan {
+    /// The clustering of the scene (empty for policies that do not cluster).
+    pub clustering: Clustering,
+    /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
+    pub cluster: Option<usize>,
+    /// The fork pushes, in execution order.
+    pub pushes: Vec<Push>,
+    /// Pushes that were not planned or not made, with their reasons.
+    pub skipped_pushes: Vec<SkippedPush>,
+    /// The grasp, planned on the scene predicted after the pushes.
+    pub grasp: Grasp,
+    /// With pushes, the grasp planner's estimate of the probability that the grasp they prepare
+    /// carries every object it is planned for, on the table predicted after them (the `p` of the
+    /// expected-time price): this trip's grasp, or, for pushes ahead (`pricing.push_ahead`), the
+    /// grasp of the pushed row a later trip is to make. `None` without pushes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub judged: Option<f64>,
+    /// When pushing ahead (`pricing.push_ahead`): the objects this trip's pushes arrange into rows
+    /// for later trips' grasps, none of them taken by this trip's grasp. Empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead: Vec<ObjectId>,
+    /// Those objects row by row, in the order the rows are pushed, each with the grasp judge's
+    /// probability for the grasp a later trip is to make of it (the first row's is `judged`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ahead_rows: Vec<AheadRow>,
+    /// The status of each push planner answer whose pushes the trip makes, in order (one per row
+    /// pushed ahead): [`Status::BestFound`] for the SOCP's search, [`Status::TimeLimit`] when its
+    /// `time_limit` cut it short, [`Status::Heuristic`] for the paper's pushes and for a push that
+    /// only separates two objects. Empty without pushes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub push_statuses: Vec<Status>,
 }
 
 /// A row a trip pushed ahead for a later trip's grasp.
@@ -260,7 +272,7 @@ impl Plan {
         let statuses: Vec<&Status> = self
             .trips
             .iter()
-            .filter_map(|t| t.clustering.status.as_ref())
+            .filter_map(|t| t.plan.clustering.status.as_ref())
             .collect();
         (!statuses.is_empty()).then(|| statuses.iter().filter(|s| !s.is_proven()).count())
     }
@@ -270,7 +282,7 @@ impl Plan {
     /// statuses were recorded.
     pub fn push_statuses(&self) -> std::collections::BTreeMap<String, usize> {
         let mut counts = std::collections::BTreeMap::new();
-        for status in self.trips.iter().flat_map(|t| &t.push_statuses) {
+        for status in self.trips.iter().flat_map(|t| &t.plan.push_statuses) {
             *counts.entry(status.name().to_string()).or_insert(0) += 1;
         }
         counts
@@ -278,14 +290,14 @@ impl Plan {
 
     /// Fork pushes made over all trips.
     pub fn push_count(&self) -> usize {
-        self.trips.iter().map(|t| t.pushes.len()).sum()
+        self.trips.iter().map(|t| t.plan.pushes.len()).sum()
     }
 
     /// Total distance objects were pushed, metres.
     pub fn push_distance(&self) -> f64 {
         self.trips
             .iter()
-            .flat_map(|t| &t.pushes)
+            .flat_map(|t| &t.plan.pushes)
             .map(|p| p.distance)
             .sum::<f64>()
             + 0.0 // an empty sum is −0.0; print it as 0

@@ -388,13 +388,13 @@ mod separate;
 mod settings;
 mod trip;
 
+pub use crate::plan::TripPlan;
 pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
 pub use no_trip::{NoTrip, TripAnswer};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
 pub use run::{Run, RunTiming, run_seconds};
 pub use settings::{LoopSettings, PolicySettings};
-pub use trip::TripPlan;
 
 impl Policy {
     /// The preset `kind` with these settings.

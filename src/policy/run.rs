@@ -125,16 +125,8 @@ impl<'a> Run<'a> {
         let run_settings = &self.policy.settings().run;
         let mut record = Trip {
             scene: SharedScene::sharing(observed.to_spec(), self.trips.last().map(|t| &t.scene)),
-            clustering: trip.clustering.clone(),
-            cluster: trip.cluster,
-            pushes: trip.pushes.clone(),
-            skipped_pushes: trip.skipped_pushes.clone(),
+            plan: trip.clone(),
             looks: Vec::new(),
-            grasp: trip.grasp.clone(),
-            judged: trip.judged,
-            ahead: trip.ahead.clone(),
-            ahead_rows: trip.ahead_rows.clone(),
-            push_statuses: trip.push_statuses.clone(),
             carried: Vec::new(),
             fault: None,
             lost: Vec::new(),
@@ -145,7 +137,7 @@ impl<'a> Run<'a> {
         let mut current = trip;
         let mut from = 0;
         loop {
-            for (k, push) in record.pushes.iter().enumerate().skip(from) {
+            for (k, push) in record.plan.pushes.iter().enumerate().skip(from) {
                 if let Some(landing) = executor.push(push)? {
                     record.fault = Some(Fault::Push {
                         push: k,
@@ -159,9 +151,9 @@ impl<'a> Run<'a> {
                 }
             }
             // Pushes ahead for a later trip's grasp are seen at the next trip's look.
-            let ahead = !record.ahead.is_empty();
+            let ahead = !record.plan.ahead.is_empty();
             if record.fault.is_some()
-                || record.pushes.len() == from
+                || record.plan.pushes.len() == from
                 || !run_settings.observe_after_pushes
                 || ahead
             {
@@ -179,21 +171,22 @@ impl<'a> Run<'a> {
             else {
                 break;
             };
-            from = record.pushes.len();
+            from = record.plan.pushes.len();
             record.looks.push(Look {
                 after_pushes: from,
                 scene: SharedScene::sharing(after.to_spec(), Some(&record.scene)),
             });
-            record.pushes.extend(next.pushes.iter().cloned());
+            record.plan.pushes.extend(next.pushes.iter().cloned());
             record
+                .plan
                 .push_statuses
                 .extend(next.push_statuses.iter().cloned());
-            record.grasp = next.grasp.clone();
+            record.plan.grasp = next.grasp.clone();
             current = next;
             self.refuse_unless_verified(&record)?;
         }
         if record.fault.is_none() {
-            let result = executor.grasp(&record.grasp)?;
+            let result = executor.grasp(&record.plan.grasp)?;
             record.fault = result.landing.map(|landing| Fault::Grasp {
                 object: landing.object,
             });
@@ -201,7 +194,7 @@ impl<'a> Run<'a> {
         }
         if record.carried.is_empty() {
             self.in_a_row += 1;
-            self.context.record_failure(&record.grasp);
+            self.context.record_failure(&record.plan.grasp);
         } else {
             self.in_a_row = 0;
         }
@@ -346,7 +339,7 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
     let trips_seconds: f64 = trips
         .iter()
         .map(|trip| {
-            let mut pushes = super::push_paths(&trip.pushes);
+            let mut pushes = super::push_paths(&trip.plan.pushes);
             for look in &trip.looks {
                 if let Some(push) = look
                     .after_pushes
@@ -356,7 +349,11 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
                     push.look_after = true;
                 }
             }
-            model.trip_seconds(gripper, &pushes, &super::grasp_path(&trip.grasp, gripper))
+            model.trip_seconds(
+                gripper,
+                &pushes,
+                &super::grasp_path(&trip.plan.grasp, gripper),
+            )
         })
         .sum();
     let looks: usize = trips.iter().map(|trip| trip.looks.len()).sum();

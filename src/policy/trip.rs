@@ -16,7 +16,6 @@
 use std::time::Instant;
 
 use nalgebra::Vector2;
-use serde::{Deserialize, Serialize};
 
 use super::context::{Landing, TripContext};
 use super::{NoTrip, Policy, PolicyClusterer, PolicyPusher, TripAnswer};
@@ -25,47 +24,11 @@ use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspRequest, JawPose};
 use crate::outcome::{Stats, Status};
-use crate::plan::AheadRow;
+use crate::plan::TripPlan;
 use crate::push::fork::finger_footprints;
 use crate::push::{Push, PushPlan, SkipReason, SkippedPush, predict};
 use crate::random::SeededRng;
 use crate::scene::{ObjectId, Scene};
-
-/// The next trip: what to push, then where to grasp. Its fields are those of a trip in a run record
-/// (`pushmog plan`), without what the executor reports.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-pub struct TripPlan {
-    /// The clustering of the scene (empty for policies that do not cluster).
-    pub clustering: Clustering,
-    /// Position in `clustering.clusters` of the cluster this trip works on (`None` when not clustered).
-    pub cluster: Option<usize>,
-    /// The fork pushes, in execution order.
-    pub pushes: Vec<Push>,
-    /// Pushes that were not planned or not made, with their reasons.
-    pub skipped_pushes: Vec<SkippedPush>,
-    /// The grasp, planned on the scene predicted after the pushes.
-    pub grasp: Grasp,
-    /// With pushes, the grasp planner's estimate of the probability that the grasp they prepare
-    /// carries every object it is planned for, on the table predicted after them (the `p` of the
-    /// expected-time price): this trip's grasp, or, for pushes ahead (`pricing.push_ahead`), the
-    /// grasp of the pushed row a later trip is to make. `None` without pushes.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub judged: Option<f64>,
-    /// When pushing ahead (`pricing.push_ahead`): the objects this trip's pushes arrange into rows
-    /// for later trips' grasps, none of them taken by this trip's grasp. Empty otherwise.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead: Vec<ObjectId>,
-    /// Those objects row by row, in the order the rows are pushed, each with the grasp judge's
-    /// probability for the grasp a later trip is to make of it (the first row's is `judged`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub ahead_rows: Vec<AheadRow>,
-    /// The status of each push planner answer whose pushes the trip makes, in order (one per row
-    /// pushed ahead): [`Status::BestFound`] for the SOCP's search, [`Status::TimeLimit`] when its
-    /// `time_limit` cut it short, [`Status::Heuristic`] for the paper's pushes and for a push that
-    /// only separates two objects. Empty without pushes.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub push_statuses: Vec<Status>,
-}
 
 /// Pushes to make, in order, the grasp planned on the table predicted after them, the grasp
 /// planner's estimate of its probability, and the push planner's status for those pushes.
@@ -90,11 +53,7 @@ impl Policy {
     ///
     /// # Errors
     /// As [`Policy::plan_trip`].
-    pub fn plan_trip_with(
-        &self,
-        scene: &Scene,
-        context: &mut TripContext,
-    ) -> Result<TripAnswer> {
+    pub fn plan_trip_with(&self, scene: &Scene, context: &mut TripContext) -> Result<TripAnswer> {
         let started = Instant::now();
         let mut clustering_seconds = None;
         let drafted = if scene.is_empty() {
@@ -172,7 +131,9 @@ impl Policy {
                 break;
             }
         }
-        Ok(Err(first_failure.expect("at least one graspable object was tried")))
+        Ok(Err(
+            first_failure.expect("at least one graspable object was tried")
+        ))
     }
 
     /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted
@@ -471,4 +432,3 @@ fn lands_again(observed: &Scene, push: &Push, landing: &Landing) -> bool {
             .any(|landed| distance(finger, landed) < LANDED_CLEARANCE)
     })
 }
-

@@ -44,7 +44,14 @@ pub fn plan_svg(plan: &Plan, options: &RenderOptions, title: &str) -> Result<Str
     figure.objects(&fills);
     for (k, trip) in plan.trips.iter().enumerate() {
         let table = Scene::new(trip.scene.to_spec())?;
-        draw_trip(figure.canvas(), trip, k, &table, 0..trip.pushes.len(), true);
+        draw_trip(
+            figure.canvas(),
+            trip,
+            k,
+            &table,
+            0..trip.plan.pushes.len(),
+            true,
+        );
     }
     figure.legend_entry("#202020", "jaw plates");
     figure.legend_entry("#808080", "push (dashed: target)");
@@ -62,7 +69,7 @@ fn stages(trip: &Trip) -> Result<Vec<(Scene, std::ops::Range<usize>)>> {
         .iter()
         .skip(1)
         .map(|t| t.1)
-        .chain([trip.pushes.len()])
+        .chain([trip.plan.pushes.len()])
         .collect();
     Ok(tables
         .into_iter()
@@ -82,9 +89,13 @@ fn draw_trip(
     jaws: bool,
 ) {
     let colour = trip_colour(k);
-    let cluster = match trip.cluster.and_then(|c| trip.clustering.clusters.get(c)) {
+    let cluster = match trip
+        .plan
+        .cluster
+        .and_then(|c| trip.plan.clustering.clusters.get(c))
+    {
         Some(cluster) => cluster,
-        None => &trip.grasp.objects,
+        None => &trip.plan.grasp.objects,
     };
     let members: Vec<usize> = cluster
         .iter()
@@ -102,7 +113,7 @@ fn draw_trip(
         style.dash = "6 3".to_string();
         canvas.polygon(&grow(&hull, 0.006), &style);
     }
-    for push in trip.pushes.get(pushes).unwrap_or_default() {
+    for push in trip.plan.pushes.get(pushes).unwrap_or_default() {
         let Some(i) = table.index_of(push.object) else {
             continue;
         };
@@ -119,7 +130,7 @@ fn draw_trip(
         );
     }
     if jaws {
-        for plate in trip.grasp.jaws.plates(table.gripper()) {
+        for plate in trip.plan.grasp.jaws.plates(table.gripper()) {
             let mut style = Style::filled(colour, "#202020");
             style.fill_opacity = 0.85;
             canvas.polygon(plate.vertices(), &style);

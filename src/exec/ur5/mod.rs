@@ -249,12 +249,12 @@ pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
         check_trip_fits(
             &translator.config().gripper,
             scene.gripper(),
-            &trip.pushes,
-            Some(&trip.grasp),
+            &trip.plan.pushes,
+            Some(&trip.plan.grasp),
             t + 1,
         )?;
         let looks: Vec<usize> = trip.looks.iter().map(|look| look.after_pushes).collect();
-        steps.extend(translator.trip(&scene, &trip.pushes, &looks, &trip.grasp, t + 1));
+        steps.extend(translator.trip(&scene, &trip.plan.pushes, &looks, &trip.plan.grasp, t + 1));
     }
     Ok(steps)
 }

@@ -39,8 +39,12 @@ pub(super) fn check_pushes(
         .map(|i| scene.world_polygon(i).clone())
         .collect();
     let mut poses: Vec<_> = scene.objects().iter().map(|o| o.pose).collect();
-    let chosen: Option<&Vec<ObjectId>> = trip.cluster.and_then(|k| trip.clustering.clusters.get(k));
+    let chosen: Option<&Vec<ObjectId>> = trip
+        .plan
+        .cluster
+        .and_then(|k| trip.plan.clustering.clusters.get(k));
     for (n, push) in trip
+        .plan
         .pushes
         .iter()
         .enumerate()
@@ -54,7 +58,9 @@ pub(super) fn check_pushes(
             ));
             continue;
         };
-        if chosen.is_some_and(|c| !c.contains(&push.object)) && !trip.ahead.contains(&push.object) {
+        if chosen.is_some_and(|c| !c.contains(&push.object))
+            && !trip.plan.ahead.contains(&push.object)
+        {
             found.push(format!(
                 "push {n}: object {} is not in the chosen cluster",
                 push.object
@@ -193,7 +199,7 @@ pub(super) fn check_grasp(
     found: &mut Vec<String>,
 ) {
     let gripper = scene.gripper();
-    let jaws = &trip.grasp.jaws;
+    let jaws = &trip.plan.grasp.jaws;
     if !angle_ok(jaws.angle) {
         found.push(format!(
             "grasp: jaw angle {} rad is not an angle within ±{MAX_YAW} rad",
@@ -223,7 +229,7 @@ pub(super) fn check_grasp(
     }
     let between = jaws.between(gripper);
     let mut total = 0.0;
-    for id in &trip.grasp.objects {
+    for id in &trip.plan.grasp.objects {
         let Some(index) = scene.index_of(*id) else {
             found.push(format!("grasp: object {id} is not on the table"));
             continue;
@@ -241,8 +247,8 @@ pub(super) fn check_grasp(
     }
     // The plates are short: they may close past parts of an object that lie beside them, so the
     // closed width has no lower bound but zero.
-    let claimed = trip.grasp.width;
-    if !trip.grasp.objects.is_empty()
+    let claimed = trip.plan.grasp.width;
+    if !trip.plan.grasp.objects.is_empty()
         && (claimed <= 0.0 || claimed > total + TOUCH || claimed > jaws.gap(gripper) + TOUCH)
     {
         found.push(format!(

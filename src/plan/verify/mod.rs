@@ -150,7 +150,7 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
             }
         }
         if exact && trip.fault.is_none() {
-            let claimed: BTreeSet<ObjectId> = trip.grasp.objects.iter().copied().collect();
+            let claimed: BTreeSet<ObjectId> = trip.plan.grasp.objects.iter().copied().collect();
             if claimed != this_trip {
                 add(
                     Some(k),
@@ -179,7 +179,7 @@ fn pushed_table(trip: &super::Trip, add: &mut dyn FnMut(String)) -> Vec<(ObjectI
         .map(|o| (o.id, [o.pose.x, o.pose.y, o.pose.yaw]))
         .collect();
     let mut looks = trip.looks.iter().enumerate().peekable();
-    for (n, push) in trip.pushes.iter().enumerate() {
+    for (n, push) in trip.plan.pushes.iter().enumerate() {
         while let Some((l, look)) = looks.next_if(|(_, look)| look.after_pushes == n) {
             if !same_table(&poses, &look.scene) {
                 add(format!(

@@ -17,20 +17,26 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     };
     let mut found = Vec::new();
     check_clustering(&scene, trip, &mut found);
-    if !trip.ahead_rows.is_empty() {
+    if !trip.plan.ahead_rows.is_empty() {
         let mut rows: Vec<ObjectId> = trip
+            .plan
             .ahead_rows
             .iter()
             .flat_map(|r| r.objects.clone())
             .collect();
-        let mut ahead = trip.ahead.clone();
+        let mut ahead = trip.plan.ahead.clone();
         rows.sort_unstable();
         ahead.sort_unstable();
         if rows != ahead {
             found.push("the rows pushed ahead do not hold exactly the objects pushed ahead".into());
         }
     }
-    if let Some(id) = trip.ahead.iter().find(|id| trip.grasp.objects.contains(id)) {
+    if let Some(id) = trip
+        .plan
+        .ahead
+        .iter()
+        .find(|id| trip.plan.grasp.objects.contains(id))
+    {
         found.push(format!(
             "grasp: takes object {id}, which the trip pushed ahead for a later trip"
         ));
@@ -41,11 +47,11 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     let here: std::collections::BTreeSet<ObjectId> = trip.scene.ids().collect();
     for (n, look) in trip.looks.iter().enumerate() {
         let start = tables.last().map_or(0, |t| t.1);
-        if look.after_pushes < start || look.after_pushes > trip.pushes.len() {
+        if look.after_pushes < start || look.after_pushes > trip.plan.pushes.len() {
             found.push(format!(
                 "look {n}: after push {} is out of order (the trip has {} pushes)",
                 look.after_pushes,
-                trip.pushes.len()
+                trip.plan.pushes.len()
             ));
             return found;
         }
@@ -71,7 +77,7 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
     }
     let mut world = Vec::new();
     for (k, (table, start)) in tables.iter().enumerate() {
-        let end = tables.get(k + 1).map_or(trip.pushes.len(), |t| t.1);
+        let end = tables.get(k + 1).map_or(trip.plan.pushes.len(), |t| t.1);
         world = check_pushes(table, trip, *start..end, &mut found);
     }
     if let Some((table, _)) = tables.last() {
@@ -81,14 +87,14 @@ pub fn verify_trip(trip: &Trip) -> Vec<String> {
 }
 
 fn check_clustering(scene: &Scene, trip: &Trip, found: &mut Vec<String>) {
-    let clusters = &trip.clustering.clusters;
+    let clusters = &trip.plan.clustering.clusters;
     if clusters.is_empty() {
-        if trip.cluster.is_some() {
+        if trip.plan.cluster.is_some() {
             found.push("a cluster is chosen from an empty clustering".to_string());
         }
         return;
     }
-    if let Some(k) = trip.cluster
+    if let Some(k) = trip.plan.cluster
         && k >= clusters.len()
     {
         found.push(format!(
@@ -96,7 +102,7 @@ fn check_clustering(scene: &Scene, trip: &Trip, found: &mut Vec<String>) {
             clusters.len()
         ));
     }
-    found.extend(verify_clustering(scene, &trip.clustering));
+    found.extend(verify_clustering(scene, &trip.plan.clustering));
 }
 
 /// Every violation of a clustering of `scene`: not a partition, a cluster over capacity, two clusters

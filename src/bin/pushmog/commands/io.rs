@@ -90,7 +90,7 @@ pub(crate) fn summary(plan: &Plan, objects: usize) -> String {
         plan.push_count(),
         plan.push_distance()
     ));
-    let skipped: usize = plan.trips.iter().map(|t| t.skipped_pushes.len()).sum();
+    let skipped: usize = plan.trips.iter().map(|t| t.plan.skipped_pushes.len()).sum();
     out.push_str(&format!("pushes skipped    {skipped}\n"));
     out.push_str(&format!("failed grasps     {}\n", plan.failed_grasps()));
     out.push_str(&format!(
