@@ -21,6 +21,8 @@ use crate::plan::verify_clustering;
 use crate::scene::{GeneratorSettings, ObjectSet, generate_scene};
 use crate::stats::mean_std;
 
+use super::tables::table::{Cell, Column, Table};
+
 /// One scene's figures.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneComparison {
@@ -153,57 +155,72 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     crate::stats::quantile(values, q).unwrap_or(f64::NAN)
 }
 
-/// The Markdown report of a comparison.
-pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "| clustering | trips | predicted time (s) | solve time (ms): median | p95 | max | proven optimal |"
-    );
-    let _ = writeln!(out, "|---|---|---|---:|---:|---:|---:|");
-    let column = |trips: &dyn Fn(&SceneComparison) -> usize,
-                  seconds: &dyn Fn(&SceneComparison) -> f64,
-                  solve: &dyn Fn(&SceneComparison) -> f64| {
-        let t: Vec<f64> = rows.iter().map(|r| trips(r) as f64).collect();
-        let s: Vec<f64> = rows.iter().map(seconds).collect();
-        let ms: Vec<f64> = rows.iter().map(|r| solve(r) * 1e3).collect();
-        let (tm, ts) = mean_std(&t);
-        let (sm, ss) = mean_std(&s);
-        (
-            format!("{tm:.2} ± {ts:.2}"),
-            format!("{sm:.1} ± {ss:.1}"),
-            format!(
-                "{:.2} | {:.2} | {:.2}",
-                quantile(&ms, 0.5),
-                quantile(&ms, 0.95),
-                quantile(&ms, 1.0)
-            ),
-        )
-    };
+/// The table: per clustering, trips and predicted seconds (mean ± standard deviation over scenes),
+/// solve times and how many optima were proven.
+fn comparison_table(rows: &[SceneComparison]) -> Table {
     let n = rows.len();
-    let (a, b, c) = column(
-        &|r| r.hierarchical_trips,
-        &|r| r.hierarchical_seconds,
-        &|r| r.hierarchical_solve,
-    );
-    let _ = writeln!(
-        out,
-        "| hierarchical (paper), as taken | {a} | {b} | {c} | – |"
-    );
-    let optimal = rows.iter().filter(|r| r.milp_status.is_proven()).count();
-    let (a, b, c) = column(&|r| r.milp_trips, &|r| r.milp_seconds, &|r| r.milp_solve);
-    let _ = writeln!(
-        out,
-        "| milp, objective time | {a} | {b} | {c} | {optimal}/{n} |"
-    );
-    let optimal = rows.iter().filter(|r| r.fewest_status.is_proven()).count();
-    let (a, b, c) = column(&|r| r.fewest_trips, &|r| r.fewest_seconds, &|r| {
-        r.fewest_solve
-    });
-    let _ = writeln!(
-        out,
-        "| milp, objective fewest clusters | {a} | {b} | {c} | {optimal}/{n} |"
-    );
+    let spread = |values: Vec<f64>| {
+        let (mean, std) = mean_std(&values);
+        Cell::Interval(mean, std)
+    };
+    let row = |name: &str,
+               trips: fn(&SceneComparison) -> usize,
+               seconds: fn(&SceneComparison) -> f64,
+               solve: fn(&SceneComparison) -> f64,
+               proven: Option<fn(&SceneComparison) -> bool>| {
+        let ms: Vec<f64> = rows.iter().map(|r| solve(r) * 1e3).collect();
+        vec![
+            Cell::Text(name.to_string()),
+            spread(rows.iter().map(|r| trips(r) as f64).collect()),
+            spread(rows.iter().map(seconds).collect()),
+            Cell::Number(quantile(&ms, 0.5)),
+            Cell::Number(quantile(&ms, 0.95)),
+            Cell::Number(quantile(&ms, 1.0)),
+            proven.map_or(Cell::Missing, |proven| {
+                Cell::Count(rows.iter().filter(|r| proven(r)).count(), n)
+            }),
+        ]
+    };
+    Table {
+        columns: vec![
+            Column::markdown("clustering", 0).left(),
+            Column::markdown("trips", 2).left(),
+            Column::markdown("predicted time (s)", 1).left(),
+            Column::markdown("solve time (ms): median", 2),
+            Column::markdown("p95", 2),
+            Column::markdown("max", 2),
+            Column::markdown("proven optimal", 0),
+        ],
+        rows: vec![
+            row(
+                "hierarchical (paper), as taken",
+                |r| r.hierarchical_trips,
+                |r| r.hierarchical_seconds,
+                |r| r.hierarchical_solve,
+                None,
+            ),
+            row(
+                "milp, objective time",
+                |r| r.milp_trips,
+                |r| r.milp_seconds,
+                |r| r.milp_solve,
+                Some(|r| r.milp_status.is_proven()),
+            ),
+            row(
+                "milp, objective fewest clusters",
+                |r| r.fewest_trips,
+                |r| r.fewest_seconds,
+                |r| r.fewest_solve,
+                Some(|r| r.fewest_status.is_proven()),
+            ),
+        ],
+    }
+}
+
+/// The Markdown report of a comparison: the table, then the paired findings.
+pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
+    let mut out = comparison_table(rows).markdown();
+    let n = rows.len();
     let time_not_worse = rows
         .iter()
         .filter(|r| r.milp_seconds <= r.hierarchical_seconds + 1e-9)

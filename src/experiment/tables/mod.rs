@@ -7,7 +7,7 @@ use super::runner::quantile;
 use crate::stats::{mean, mean_std, t_95};
 
 mod csv_lines;
-mod table;
+pub(super) mod table;
 
 use table::{Cell, Column, Table, tex};
 

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 /// One column.
 #[derive(Clone, Debug)]
-pub(super) struct Column {
+pub(in crate::experiment) struct Column {
     /// The Markdown heading.
     pub markdown: &'static str,
     /// Right-aligned in Markdown (`---:`), else `---`.
@@ -52,7 +52,7 @@ impl Column {
 
 /// One cell's value.
 #[derive(Clone, Debug)]
-pub(super) enum Cell {
+pub(in crate::experiment) enum Cell {
     /// Text as it is (LaTeX escapes `_`, `%` and `&`).
     Text(String),
     /// A number with the column's decimals.
@@ -67,7 +67,7 @@ pub(super) enum Cell {
 
 /// A table: columns and rows of cells, one per column.
 #[derive(Clone, Debug, Default)]
-pub(super) struct Table {
+pub(in crate::experiment) struct Table {
     pub columns: Vec<Column>,
     pub rows: Vec<Vec<Cell>>,
 }
