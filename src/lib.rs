@@ -23,6 +23,7 @@
 //! - [`render`]: SVG drawings of scenes and plans; [`json`]: file formats with precise errors;
 //!   [`schema`]: their JSON Schemas by name.
 //! - [`time_model`]: seconds per trip and per push, for objectives and picks per hour.
+//! - [`stack`]: riders on a pushed row's top: where one may stand, and the search for the spot.
 //! - [`experiment`]: configurations, the parallel resumable runner, logs, tables and figures.
 //!
 //! ```
@@ -49,6 +50,7 @@ pub mod random;
 pub mod render;
 pub mod scene;
 pub mod schema;
+pub mod stack;
 pub mod stats;
 pub mod time_model;
 

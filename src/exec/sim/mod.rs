@@ -23,6 +23,8 @@
 
 mod base;
 mod prism;
+#[cfg(test)]
+mod ride_check;
 mod rollout;
 mod settings;
 mod world;

@@ -1,0 +1,151 @@
+//! A first physics check of riders (`formulations/stacking.md`): a rider placed where
+//! `stack::place_rider` puts it, on a pushed pair, goes with the pair through the grasp, the lift
+//! and a carry at the arm's acceleration. The simulator has no place action yet: the rider starts
+//! at rest on the row's top, as a place action would leave it.
+
+use rapier3d_f64::math::{Rotation, Vector};
+
+use super::Sim;
+use super::prism::Prism;
+use super::settings::SimSettings;
+use super::world::Stage;
+use crate::geometry::ConvexPolygon;
+use crate::scene::{Gripper, ObjectId};
+use crate::stack::{Row, StackSettings, place_rider};
+
+/// Density of the test objects, kg/m³ (the grasp model's default).
+const DENSITY: f64 = 1000.0;
+
+fn square(half: f64) -> ConvexPolygon {
+    ConvexPolygon::rectangle(
+        &nalgebra::Point2::origin(),
+        &nalgebra::Vector2::x(),
+        half,
+        half,
+    )
+}
+
+fn prism(id: u32, outline: ConvexPolygon, at: (f64, f64, f64), yaw: f64, height: f64) -> Prism {
+    Prism {
+        id: ObjectId(id),
+        name: None,
+        mass: DENSITY * outline.area() * height,
+        polygon: outline,
+        height,
+        translation: Vector::new(at.0, at.1, at.2),
+        rotation: Rotation::from_rotation_z(yaw),
+    }
+}
+
+/// Moves the palm by `distance` along x with a trapezoidal speed profile: `acceleration` up to
+/// `speed`, then down again, in short constant-speed pieces.
+fn carry(stage: &mut Stage, distance: f64, speed: f64, acceleration: f64, time_step: f64) {
+    let ramp = speed / acceleration;
+    let pieces = (ramp / time_step / 4.0).ceil().max(1.0) as usize;
+    let mut gone = 0.0;
+    let ramp_piece = |stage: &mut Stage, k: usize, gone: &mut f64| {
+        let v = speed * (k as f64 + 0.5) / pieces as f64;
+        let step = v * ramp / pieces as f64;
+        stage.travel(Vector::new(step, 0.0, 0.0), v);
+        *gone += step;
+    };
+    for k in 0..pieces {
+        ramp_piece(stage, k, &mut gone);
+    }
+    let cruise = distance - 2.0 * gone;
+    if cruise > 0.0 {
+        stage.travel(Vector::new(cruise, 0.0, 0.0), speed);
+    }
+    for k in (0..pieces).rev() {
+        ramp_piece(stage, k, &mut gone);
+    }
+}
+
+/// What became of a 20 mm cube resting on a pair of 35 mm cubes pushed together along x (70 mm of
+/// the 75 mm the jaws open to), its centroid where `stack::place_rider` puts it and then `shift`
+/// further along y, after the closing, a 10 cm lift and a 0.3 m carry at 1.2 m/s² (top speed
+/// 0.5 m/s): how far it moved relative to the pair, metres, its tilt, radians, and how high its
+/// base is above where it was put, metres.
+fn ride(shift: f64) -> (f64, f64, f64) {
+    let settings = SimSettings::default();
+    let sim = Sim::new(settings.clone(), 1).unwrap();
+    let cube = square(0.0175);
+    let row = Row {
+        outlines: vec![
+            cube.translated(&nalgebra::Vector2::new(0.0, 0.0)),
+            cube.translated(&nalgebra::Vector2::new(0.035, 0.0)),
+        ],
+        heights: vec![0.035, 0.035],
+        axis: nalgebra::Vector2::x(),
+    };
+    let rider_outline = square(0.01);
+    let stack = StackSettings::default();
+    let placed = place_rider(&row, &rider_outline, 0.02, settings.friction_object, &stack).unwrap();
+    let mut prisms = vec![
+        prism(0, cube.clone(), (0.0, 0.0, 0.0), 0.0, 0.035),
+        prism(1, cube, (0.035, 0.0, 0.0), 0.0, 0.035),
+        prism(
+            2,
+            rider_outline,
+            (placed.pose.x, placed.pose.y + shift, placed.base),
+            placed.pose.yaw,
+            0.02,
+        ),
+    ];
+    let above = placed.base + 0.02 + 0.005;
+    let mut stage = Stage::new(
+        &prisms,
+        &[0, 1, 2],
+        &Gripper::default(),
+        &sim.stage_settings(),
+        (0.0175, 0.0),
+        above,
+        0.0,
+        0.085,
+    );
+    let relative = |prisms: &[Prism]| {
+        let middle = (prisms[0].translation + prisms[1].translation) / 2.0;
+        prisms[2].translation - middle
+    };
+    let before = relative(&prisms);
+    let landed = stage.descend(above - settings.grasp_height, settings.vertical_speed);
+    assert_eq!(landed, None);
+    stage.close(settings.jaw_speed, settings.grip_force, 1.0);
+    stage.wait(0.05);
+    stage.travel(
+        Vector::new(0.0, 0.0, settings.lift),
+        settings.vertical_speed,
+    );
+    carry(&mut stage, 0.3, 0.5, stack.acceleration, settings.time_step);
+    stage.wait(settings.settle);
+    stage.write_back(&mut prisms);
+    let moved = (relative(&prisms) - before).length();
+    (
+        moved,
+        prisms[2].tilt(),
+        prisms[2].translation.z - placed.base,
+    )
+}
+
+/// Placed by the checks, the rider goes with the pair: upright, within 1 mm of where it was put
+/// relative to the pair, lifted with it.
+#[test]
+fn a_rider_placed_by_the_checks_rides_the_grasp_lift_and_carry() {
+    let lift = SimSettings::default().lift;
+    let (moved, tilt, raised) = ride(0.0);
+    assert!(moved < 0.001, "the rider moved {moved} m on the pair");
+    assert!(tilt < 1f64.to_radians(), "{tilt}");
+    assert!(raised > 0.9 * lift, "{raised}");
+}
+
+/// The same rider with its centroid 2 mm beyond the top's edge is not carried: the check that
+/// refuses it stands for something physical.
+#[test]
+fn a_rider_with_its_centroid_off_the_top_falls() {
+    let lift = SimSettings::default().lift;
+    let (moved, tilt, raised) = ride(0.0175 + 0.002);
+    assert!(
+        raised < 0.5 * lift || tilt > 30f64.to_radians(),
+        "moved {moved}, tilt {tilt}, raised {raised}"
+    );
+}

@@ -1,0 +1,388 @@
+//! Where a rider goes on a row's top: the search over its turns and translations, and the checks
+//! that decide whether it rides (`formulations/stacking.md`).
+
+use std::f64::consts::TAU;
+
+use nalgebra::{Isometry2, Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::support::{Row, Support};
+use super::{GRAVITY, tipping_bound};
+use crate::geometry::{ConvexPolygon, convex_hull};
+use crate::scene::Pose;
+
+/// What the rider checks allow.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct StackSettings {
+    /// Top faces within this of the tallest member's top count as one support, metres. Default
+    /// 2 mm.
+    pub height_tolerance: f64,
+    /// Least distance from the rider's centroid to the edge of what it rests on, covering where it
+    /// is seen and where it is put, metres. Default 5 mm. The tipping bound is applied when larger.
+    pub support_margin: f64,
+    /// Least distance, along the closing axis, from the rider's footprint to the row's outer faces
+    /// (where the pads close), metres. Default 5 mm.
+    pub pad_margin: f64,
+    /// Turns of the rider tried, evenly over a full turn. Default 24 (15° apart).
+    pub yaws: usize,
+    /// The arm's horizontal acceleration while carrying, m/s². Default 1.2, the time model's
+    /// `travel_acceleration`.
+    pub acceleration: f64,
+    /// Object–object friction must be at least this many times `acceleration / g`. Default 1.5.
+    pub slide_factor: f64,
+}
+
+impl Default for StackSettings {
+    fn default() -> Self {
+        Self {
+            height_tolerance: 0.002,
+            support_margin: 0.005,
+            pad_margin: 0.005,
+            yaws: 24,
+            acceleration: 1.2,
+            slide_factor: 1.5,
+        }
+    }
+}
+
+/// Where a rider rests.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placement {
+    /// The rider's pose on the table (its frame's origin and yaw), seen from above.
+    pub pose: Pose,
+    /// The height of its base above the table, metres: the row's top.
+    pub base: f64,
+    /// The distance from its centroid to the nearest edge of its support polygon (the hull of
+    /// the parts of the top faces it covers), metres.
+    pub margin: f64,
+    /// The row members it rests on, as positions in the row.
+    pub resting_on: Vec<usize>,
+}
+
+/// Why a rider cannot ride on a row.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoPlacement {
+    /// The row is empty.
+    NoTop,
+    /// Object–object friction is below `slide_factor · a/g`: the rider would slide.
+    Slides {
+        /// The friction needed.
+        needed: f64,
+    },
+    /// At no turn does the rider's footprint fit between the pads with their margins.
+    TooWide,
+    /// The best placement leaves the centroid too near the edge of its support.
+    NoRoom {
+        /// The best margin found, metres (negative: the centroid outside).
+        best: f64,
+        /// The margin needed, metres.
+        needed: f64,
+    },
+}
+
+/// A candidate: the turn, the centroid's position and the inset of the top's hull reached there.
+struct Candidate {
+    yaw: f64,
+    centroid: Point2<f64>,
+    inset: f64,
+}
+
+/// Places `rider` (its outline in its own frame, its height) on `row`'s top with the most room, or
+/// says why it cannot ride. `friction_object` is the rider–row friction coefficient.
+pub fn place_rider(
+    row: &Row,
+    rider: &ConvexPolygon,
+    rider_height: f64,
+    friction_object: f64,
+    settings: &StackSettings,
+) -> Result<Placement, NoPlacement> {
+    let support = Support::of(row, settings.height_tolerance).ok_or(NoPlacement::NoTop)?;
+    let needed_friction = settings.slide_factor * settings.acceleration / GRAVITY;
+    if friction_object < needed_friction {
+        return Err(NoPlacement::Slides {
+            needed: needed_friction,
+        });
+    }
+    let needed = settings
+        .support_margin
+        .max(tipping_bound(rider_height, settings.acceleration));
+    let (lo, hi) = row.extent();
+    let hull = half_planes(&support.hull);
+    let mut candidates = Vec::new();
+    let mut fits_between_pads = false;
+    for k in 0..settings.yaws.max(1) {
+        let yaw = TAU * k as f64 / settings.yaws.max(1) as f64;
+        let footprint = about_centroid(rider, yaw);
+        let (front, back) = footprint.projection(&row.axis);
+        let strip = (
+            lo + settings.pad_margin - front,
+            hi - settings.pad_margin - back,
+        );
+        if strip.0 > strip.1 {
+            continue;
+        }
+        fits_between_pads = true;
+        if let Some((inset, centroid)) = deepest(&support.hull, &hull, &row.axis, strip) {
+            candidates.push(Candidate {
+                yaw,
+                centroid,
+                inset,
+            });
+        }
+    }
+    if !fits_between_pads {
+        return Err(NoPlacement::TooWide);
+    }
+    candidates.sort_by(|a, b| b.inset.total_cmp(&a.inset));
+    let mut best = f64::NEG_INFINITY;
+    for candidate in &candidates {
+        if candidate.inset < needed {
+            break;
+        }
+        let footprint = about_centroid(rider, candidate.yaw).translated(&candidate.centroid.coords);
+        let (margin, resting_on) = resting(&support, &footprint, &candidate.centroid);
+        if margin >= needed {
+            let offset = Isometry2::rotation(candidate.yaw) * rider.centroid().coords;
+            let origin = candidate.centroid - offset;
+            return Ok(Placement {
+                pose: Pose::new(origin.x, origin.y, candidate.yaw),
+                base: support.height,
+                margin,
+                resting_on: resting_on.into_iter().map(|f| support.members[f]).collect(),
+            });
+        }
+        best = best.max(margin);
+    }
+    if best == f64::NEG_INFINITY {
+        best = candidates.first().map_or(f64::NEG_INFINITY, |c| c.inset);
+    }
+    Err(NoPlacement::NoRoom { best, needed })
+}
+
+/// Whether the plates carry a row of `row_masses` with riders of `rider_masses` by friction: each
+/// plate, pressing with `grip_force` at friction `friction_jaw`, takes half the weight.
+pub fn plates_carry(
+    friction_jaw: f64,
+    grip_force: f64,
+    row_masses: &[f64],
+    rider_masses: &[f64],
+) -> bool {
+    let weight: f64 = row_masses.iter().chain(rider_masses).sum::<f64>() * GRAVITY;
+    friction_jaw * grip_force >= weight / 2.0
+}
+
+/// `outline` turned by `yaw` about its centroid and moved so that the centroid is at the origin.
+fn about_centroid(outline: &ConvexPolygon, yaw: f64) -> ConvexPolygon {
+    let turned = outline.transformed(&Isometry2::rotation(yaw));
+    let centroid = turned.centroid();
+    turned.translated(&-centroid.coords)
+}
+
+/// The polygon's edges as half-planes `n·x ≤ d`, `n` the outward unit normal.
+fn half_planes(polygon: &ConvexPolygon) -> Vec<(Vector2<f64>, f64)> {
+    polygon
+        .edges()
+        .filter_map(|(p, q)| {
+            let edge = q - p;
+            let length = edge.norm();
+            (length > 1e-12).then(|| {
+                let normal = Vector2::new(edge.y, -edge.x) / length;
+                (normal, normal.dot(&p.coords))
+            })
+        })
+        .collect()
+}
+
+/// The largest `t` for which the hull inset by `t` meets the strip `strip.0 ≤ axis·x ≤ strip.1`,
+/// by bisection, and the centroid of that meeting; `None` when the strip misses the hull.
+fn deepest(
+    hull: &ConvexPolygon,
+    planes: &[(Vector2<f64>, f64)],
+    axis: &Vector2<f64>,
+    strip: (f64, f64),
+) -> Option<(f64, Point2<f64>)> {
+    let region = |t: f64| {
+        let mut points = hull.vertices().to_vec();
+        for (normal, d) in planes {
+            points = clip(&points, normal, d - t);
+        }
+        points = clip(&points, axis, strip.1);
+        clip(&points, &-axis, -strip.0)
+    };
+    let mut inside = region(0.0);
+    if inside.is_empty() {
+        return None;
+    }
+    let (mut low, mut high) = (0.0, hull.width(axis).max(hull.width(&axis.yx())));
+    for _ in 0..40 {
+        let t = 0.5 * (low + high);
+        let points = region(t);
+        if points.is_empty() {
+            high = t;
+        } else {
+            low = t;
+            inside = points;
+        }
+    }
+    // The mean of the region's distinct corners: at the deepest inset the region has shrunk to a
+    // point or a segment, whose middle this is.
+    let mut corners: Vec<Point2<f64>> = Vec::with_capacity(inside.len());
+    for p in inside {
+        if corners.iter().all(|c| nalgebra::distance(c, &p) > 1e-9) {
+            corners.push(p);
+        }
+    }
+    let sum = corners.iter().fold(Vector2::zeros(), |s, p| s + p.coords);
+    Some((low, Point2::from(sum / corners.len() as f64)))
+}
+
+/// The part of the convex polygon `points` where `normal·x ≤ d` (Sutherland–Hodgman).
+fn clip(points: &[Point2<f64>], normal: &Vector2<f64>, d: f64) -> Vec<Point2<f64>> {
+    let mut out = Vec::with_capacity(points.len() + 1);
+    for (k, p) in points.iter().enumerate() {
+        let q = &points[(k + 1) % points.len()];
+        let (fp, fq) = (normal.dot(&p.coords) - d, normal.dot(&q.coords) - d);
+        if fp <= 0.0 {
+            out.push(*p);
+        }
+        if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
+            out.push(p + (q - p) * (fp / (fp - fq)));
+        }
+    }
+    out
+}
+
+/// The margin of `centroid` inside the hull of the parts of the top faces that `footprint` covers
+/// (negative outside), and which faces those are.
+fn resting(
+    support: &Support,
+    footprint: &ConvexPolygon,
+    centroid: &Point2<f64>,
+) -> (f64, Vec<usize>) {
+    let mut contact = Vec::new();
+    let mut faces = Vec::new();
+    for (f, face) in support.faces.iter().enumerate() {
+        let mut points = footprint.vertices().to_vec();
+        for (normal, d) in half_planes(face) {
+            points = clip(&points, &normal, d);
+        }
+        if points.len() >= 3 {
+            faces.push(f);
+            contact.extend(points);
+        }
+    }
+    let Ok(polygon) = ConvexPolygon::new(convex_hull(&contact)) else {
+        return (f64::NEG_INFINITY, faces);
+    };
+    let margin = half_planes(&polygon)
+        .iter()
+        .map(|(normal, d)| d - normal.dot(&centroid.coords))
+        .fold(f64::INFINITY, f64::min);
+    (margin, faces)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x: f64, y: f64, half: f64) -> ConvexPolygon {
+        ConvexPolygon::rectangle(&Point2::new(x, y), &Vector2::x(), half, half)
+    }
+
+    /// Two 40 mm cubes side by side along x, the jaws closing along x.
+    fn pair(heights: [f64; 2]) -> Row {
+        Row {
+            outlines: vec![square(0.0, 0.0, 0.02), square(0.04, 0.0, 0.02)],
+            heights: heights.to_vec(),
+            axis: Vector2::x(),
+        }
+    }
+
+    #[test]
+    fn a_small_rider_stands_in_the_middle_of_a_pair_clear_of_the_pads() {
+        let rider = square(0.3, 0.1, 0.01);
+        let settings = StackSettings::default();
+        let placed = place_rider(&pair([0.03, 0.03]), &rider, 0.02, 0.4, &settings).unwrap();
+        assert_eq!(placed.base, 0.03);
+        assert_eq!(placed.resting_on, vec![0, 1]);
+        let footprint = rider.transformed(&placed.pose.isometry());
+        let (front, back) = footprint.projection(&Vector2::x());
+        assert!(front >= -0.02 + settings.pad_margin - 1e-9, "{front}");
+        assert!(back <= 0.06 - settings.pad_margin + 1e-9, "{back}");
+        // The most room on a 80 × 40 mm top for a 20 mm square: its centroid in the middle, 20 mm
+        // from the long edges.
+        let centroid = footprint.centroid();
+        assert!(
+            (centroid.x - 0.02).abs() < 1e-6 && centroid.y.abs() < 1e-6,
+            "{centroid} {placed:?}"
+        );
+        assert!((placed.margin - 0.01).abs() < 1e-6, "{}", placed.margin);
+    }
+
+    #[test]
+    fn the_rider_rests_on_the_taller_member_only() {
+        let rider = square(0.0, 0.0, 0.01);
+        let placed = place_rider(
+            &pair([0.03, 0.05]),
+            &rider,
+            0.02,
+            0.4,
+            &StackSettings::default(),
+        )
+        .unwrap();
+        assert_eq!(placed.base, 0.05);
+        assert_eq!(placed.resting_on, vec![1]);
+    }
+
+    #[test]
+    fn refusals_say_why() {
+        let settings = StackSettings::default();
+        let wide = square(0.0, 0.0, 0.04);
+        assert_eq!(
+            place_rider(&pair([0.03, 0.03]), &wide, 0.02, 0.4, &settings),
+            Err(NoPlacement::TooWide)
+        );
+        let small = square(0.0, 0.0, 0.01);
+        let slides = place_rider(&pair([0.03, 0.03]), &small, 0.02, 0.1, &settings);
+        assert!(
+            matches!(slides, Err(NoPlacement::Slides { .. })),
+            "{slides:?}"
+        );
+        // A demanding margin no 40 mm-deep top gives.
+        let strict = StackSettings {
+            support_margin: 0.025,
+            ..settings
+        };
+        let no_room = place_rider(&pair([0.03, 0.03]), &small, 0.02, 0.4, &strict);
+        assert!(
+            matches!(no_room, Err(NoPlacement::NoRoom { .. })),
+            "{no_room:?}"
+        );
+    }
+
+    #[test]
+    fn the_tipping_bound_takes_over_for_tall_riders() {
+        // A 0.5 m tall rider at 1.2 m/s² needs (1.2/9.81)·0.25 = 30.6 mm: more than the 20 mm a
+        // 40 mm-deep top offers.
+        let rider = square(0.0, 0.0, 0.01);
+        let refused = place_rider(
+            &pair([0.03, 0.03]),
+            &rider,
+            0.5,
+            0.4,
+            &StackSettings::default(),
+        );
+        let Err(NoPlacement::NoRoom { needed, .. }) = refused else {
+            panic!("{refused:?}");
+        };
+        assert!((needed - tipping_bound(0.5, 1.2)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_plates_carry_the_riders_weight_too() {
+        // 0.4 × 20 N carries 16 N: 1.5 kg (14.7 N) but not 1.7 kg.
+        assert!(plates_carry(0.4, 20.0, &[0.5, 0.5], &[0.5]));
+        assert!(!plates_carry(0.4, 20.0, &[0.5, 0.5], &[0.7]));
+    }
+}
