@@ -1062,3 +1062,85 @@ fn no_trip_says_why_typed() {
         assert!(plan.failed_attempts.is_empty(), "{kind}");
     }
 }
+
+/// Riders with plans applied exactly: push-mog-opt with riders puts riders on rows, every plan
+/// verifies (each rider picked clear of its neighbours, let go where its jaws carried it, standing
+/// on the row's top clear of the pads), every rider rides, and the same scenes need fewer trips
+/// than without riders.
+#[test]
+fn riders_ride_on_rows_and_save_trips() {
+    use pushmog::policy::Riders;
+    let with = PolicySettings {
+        riders: Riders {
+            enabled: true,
+            ..Riders::default()
+        },
+        ..PolicySettings::default()
+    };
+    let riders = Policy::new(PolicyKind::PushMogOpt, with).unwrap();
+    let plain = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let (mut trips_with, mut trips_without, mut placed) = (0, 0, 0);
+    for seed in 1..=3 {
+        let table = scene(seed);
+        let plan = riders.run(&table, &mut riders.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared), "seed {seed}");
+        assert_eq!(plan.riders_lost(), 0, "seed {seed}");
+        placed += plan.riders_placed();
+        trips_with += plan.trips.len();
+        trips_without += plain
+            .run(&table, &mut plain.ideal(), seed)
+            .unwrap()
+            .trips
+            .len();
+    }
+    assert!(placed > 0);
+    assert!(
+        trips_with < trips_without,
+        "{trips_with} against {trips_without}"
+    );
+}
+
+/// The verifier refuses a rider put where it cannot stand, one the trip also grasps, and one let go
+/// where its jaws did not carry it.
+#[test]
+fn the_verifier_refuses_riders_that_cannot_ride() {
+    use pushmog::plan::verify_trip;
+    use pushmog::policy::Riders;
+    let settings = PolicySettings {
+        riders: Riders {
+            enabled: true,
+            ..Riders::default()
+        },
+        ..PolicySettings::default()
+    };
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let plan = policy.run(&scene(1), &mut policy.ideal(), 1).unwrap();
+    let trip = plan
+        .trips
+        .iter()
+        .find(|t| !t.plan.riders.is_empty())
+        .expect("a trip with a rider");
+    assert!(verify_trip(trip).is_empty());
+    let broken = |change: &dyn Fn(&mut pushmog::plan::Rider)| {
+        let mut bad = trip.clone();
+        change(&mut bad.plan.riders[0]);
+        verify_trip(&bad)
+    };
+    let off_the_top = broken(&|r| r.place.y += 0.08);
+    assert!(
+        off_the_top.iter().any(|v| v.contains("not over the top")),
+        "{off_the_top:?}"
+    );
+    let grasped = trip.plan.grasp.objects[0];
+    let twice = broken(&|r| r.object = grasped);
+    assert!(
+        twice.iter().any(|v| v.contains("also grasped")),
+        "{twice:?}"
+    );
+    let elsewhere = broken(&|r| r.release.center.x += 0.01);
+    assert!(
+        elsewhere.iter().any(|v| v.contains("not let go where")),
+        "{elsewhere:?}"
+    );
+}

@@ -517,3 +517,27 @@ fn outlines_of_many_vertices_stand_still_beside_a_grasp() {
         .unwrap();
     assert_eq!(sim.grasp(&grasp).unwrap().carried, vec![ObjectId(1)]);
 }
+
+/// Riders in physics: push-mog-opt with riders on one scene puts riders on rows in the simulator,
+/// the plan passes the verifier (riders included), and the riders that their trips did not carry
+/// are counted. Whether riders ride is measured over many scenes (`experiments/stacking.toml`).
+#[test]
+fn riders_are_placed_in_the_simulator_and_the_plan_verifies() {
+    use pushmog::plan::verify;
+    use pushmog::policy::{Policy, PolicyKind, PolicySettings, Riders};
+    use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let settings = PolicySettings {
+        riders: Riders {
+            enabled: true,
+            ..Riders::default()
+        },
+        ..PolicySettings::default()
+    };
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
+    let plan = policy.run(&scene, &mut sim, 3).unwrap();
+    assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));
+    assert!(plan.riders_placed() > 0);
+    assert!(plan.riders_lost() <= plan.riders_placed());
+}

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::grasp::Grasp;
+use crate::plan::Rider;
 use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
@@ -23,6 +24,10 @@ pub use ideal::Ideal;
 pub use kind::ExecutorKind;
 #[cfg(feature = "sim")]
 pub use sim::{Closing, FingerDrive, Rollout, Sim, SimSettings};
+
+/// Why a rider still standing on another object (its row was not carried) cannot be planned for:
+/// the reason [`Executor::lost`] gives for it.
+pub const RIDER_LEFT: &str = "a rider left on another object";
 
 /// A finger or plate came down on top of an object while the gripper descended, so the action was
 /// stopped there (a real arm would have been stopped, or would have crushed the object).
@@ -75,6 +80,24 @@ pub trait Executor {
     /// # Errors
     /// Environment faults only.
     fn grasp(&mut self, grasp: &Grasp) -> Result<GraspResult>;
+
+    /// Picks the rider's object with its single-object grasp, carries it over the row and puts it
+    /// down on the row's top at its place, then opens the jaws and rises
+    /// (`formulations/stacking.md`). Returns the landing that stopped it, if the gripper came down
+    /// on an object while descending to the pick. The default refuses: an executor that cannot
+    /// place riders says so.
+    ///
+    /// # Errors
+    /// [`crate::Error::Misuse`] from an executor without the place action; environment faults.
+    fn place(&mut self, rider: &Rider) -> Result<Option<Landing>> {
+        Err(crate::Error::misuse(
+            self.name(),
+            format!(
+                "this executor cannot place riders (object {} was to ride)",
+                rider.object
+            ),
+        ))
+    }
 
     /// The table as the executor sees it now.
     ///

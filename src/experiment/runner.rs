@@ -103,6 +103,8 @@ pub fn run_one(
         failed_attempts: plan.failed_attempts.len(),
         unproven_clusterings: plan.unproven_clusterings(),
         push_statuses: plan.push_statuses(),
+        riders_placed: plan.riders_placed(),
+        riders_lost: plan.riders_lost(),
         cleared,
         stop_reason,
         remaining,

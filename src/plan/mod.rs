@@ -18,9 +18,9 @@ pub use verify::{Violation, verify, verify_clustering, verify_record, verify_tri
 use serde::{Deserialize, Serialize};
 
 use crate::cluster::Clustering;
-use crate::grasp::Grasp;
+use crate::grasp::{Grasp, JawPose};
 use crate::push::{Push, SkippedPush};
-use crate::scene::{ObjectId, SceneSpec};
+use crate::scene::{ObjectId, Pose, SceneSpec};
 
 /// One trip of a run: plan on an observation, push, grasp, carry to the bin.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,6 +86,30 @@ pub struct TripPlan {
     /// only separates two objects. Empty without pushes.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub push_statuses: Vec<Status>,
+    /// Objects picked by themselves after the pushes and put down on the top of the row the grasp
+    /// takes, in order, to ride with it (`formulations/stacking.md`). Empty without riders.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub riders: Vec<Rider>,
+}
+
+/// An object picked by itself and put down on the top of a row just before the row's grasp, so
+/// that it travels to the bin on the row (`formulations/stacking.md`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Rider {
+    /// The object.
+    pub object: ObjectId,
+    /// Its single-object grasp where it lies, planned on the table predicted after the pushes.
+    pub pick: Grasp,
+    /// Where it is put down: its pose seen from above.
+    pub place: Pose,
+    /// The jaws when it stands at `place` (the pick's jaws moved with it), where they open to let
+    /// it go.
+    pub release: JawPose,
+    /// The height of its base above the table once put down (the row's top), metres.
+    pub base: f64,
+    /// The objects of the row it rests on.
+    pub on: Vec<ObjectId>,
 }
 
 /// A row a trip pushed ahead for a later trip's grasp.
@@ -146,6 +170,13 @@ pub enum Fault {
         /// The object landed on.
         object: ObjectId,
     },
+    /// During the descent to a rider's pick; later riders and the grasp were not made.
+    Place {
+        /// The rider, counted from 0 within the trip.
+        rider: usize,
+        /// The object landed on.
+        object: ObjectId,
+    },
 }
 
 impl std::fmt::Display for Fault {
@@ -159,8 +190,23 @@ impl std::fmt::Display for Fault {
             Self::Grasp { object } => {
                 write!(f, "grasp stopped: a plate came down on object {object}")
             }
+            Self::Place { rider, object } => write!(
+                f,
+                "rider {} stopped: a plate came down on object {object}",
+                rider + 1
+            ),
         }
     }
+}
+
+/// The riders `trip` put down.
+fn placed_riders(trip: &Trip) -> impl Iterator<Item = &Rider> {
+    let made = match trip.fault {
+        None | Some(Fault::Grasp { .. }) => trip.plan.riders.len(),
+        Some(Fault::Place { rider, .. }) => rider,
+        Some(Fault::Push { .. }) => 0,
+    };
+    trip.plan.riders.iter().take(made)
 }
 
 /// How a run ended.
@@ -315,6 +361,24 @@ impl Plan {
     /// Trips that carried nothing.
     pub fn failed_grasps(&self) -> usize {
         self.trips.iter().filter(|t| t.carried.is_empty()).count()
+    }
+
+    /// Riders put down on rows: every rider of a trip, less those after a landing on the way to
+    /// one (`Fault::Place`) and all of a trip stopped during its pushes.
+    pub fn riders_placed(&self) -> usize {
+        self.trips.iter().map(|t| placed_riders(t).count()).sum()
+    }
+
+    /// Riders put down on rows that their trip did not carry: they fell, slid or were left behind.
+    pub fn riders_lost(&self) -> usize {
+        self.trips
+            .iter()
+            .map(|t| {
+                placed_riders(t)
+                    .filter(|r| !t.carried.contains(&r.object))
+                    .count()
+            })
+            .sum()
     }
 
     /// Trips stopped because the gripper came down on an object.

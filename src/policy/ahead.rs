@@ -81,6 +81,7 @@ impl Policy {
             ahead: Vec::new(),
             ahead_rows: Vec::new(),
             push_statuses: Vec::new(),
+            riders: Vec::new(),
         };
         // Rows pushed before still wait for their grasps: the next rows are pushed together once
         // none waits.
@@ -175,6 +176,7 @@ impl Policy {
             ahead,
             ahead_rows,
             push_statuses: batch.statuses,
+            riders: Vec::new(),
         }))
     }
 

@@ -6,7 +6,7 @@ use super::trip::Drafted;
 use super::{Policy, TripContext, TripPlan};
 use crate::error::Result;
 use crate::grasp::GraspRequest;
-use crate::push::SkippedPush;
+use crate::push::{SkippedPush, predict};
 use crate::scene::{ObjectId, Scene};
 
 impl Policy {
@@ -36,6 +36,24 @@ impl Policy {
         context: &TripContext,
         may_push: bool,
     ) -> Result<Option<TripPlan>> {
+        let Some(mut corrected) = self.correct_draft(observed, trip, context, may_push)? else {
+            return Ok(None);
+        };
+        if self.settings.riders.enabled {
+            let predicted = predict(observed, &corrected.pushes)?;
+            corrected.riders = self.riders_for(&predicted, &corrected, &context.failed)?;
+        }
+        Ok(Some(corrected))
+    }
+
+    /// [`Policy::correct_trip`] without its riders.
+    fn correct_draft(
+        &self,
+        observed: &Scene,
+        trip: &TripPlan,
+        context: &TripContext,
+        may_push: bool,
+    ) -> Result<Option<TripPlan>> {
         let avoid = &context.failed;
         let planned: &[ObjectId] = match trip.cluster {
             Some(k) if k < trip.clustering.clusters.len() => &trip.clustering.clusters[k],
@@ -57,6 +75,7 @@ impl Policy {
                 ahead: Vec::new(),
                 ahead_rows: Vec::new(),
                 push_statuses: status.into_iter().collect(),
+                riders: Vec::new(),
             };
         let mut skipped = Vec::new();
         if members.len() >= 2 {

@@ -383,6 +383,7 @@ mod context;
 mod correct;
 mod no_trip;
 mod price;
+mod riders;
 mod run;
 mod separate;
 mod settings;
@@ -393,6 +394,7 @@ pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
 pub use no_trip::{NoTrip, TripAnswer};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
+pub use riders::Riders;
 pub use run::{Run, RunTiming, run_seconds};
 pub use settings::{LoopSettings, PolicySettings};
 

@@ -16,6 +16,7 @@ use crate::error::Result;
 use crate::exec::Executor;
 use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, SharedScene, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
+use crate::time_model::RiderPath;
 
 /// Wall-clock planning times of one run, seconds.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -182,8 +183,21 @@ impl<'a> Run<'a> {
                 .push_statuses
                 .extend(next.push_statuses.iter().cloned());
             record.plan.grasp = next.grasp.clone();
+            record.plan.riders = next.riders.clone();
             current = next;
             self.refuse_unless_verified(&record)?;
+        }
+        // Riders are put on the row just before its grasp.
+        if record.fault.is_none() {
+            for (k, rider) in record.plan.riders.iter().enumerate() {
+                if let Some(landing) = executor.place(rider)? {
+                    record.fault = Some(Fault::Place {
+                        rider: k,
+                        object: landing.object,
+                    });
+                    break;
+                }
+            }
         }
         if record.fault.is_none() {
             let result = executor.grasp(&record.plan.grasp)?;
@@ -349,9 +363,19 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
                     push.look_after = true;
                 }
             }
-            model.trip_seconds(
+            let riders: Vec<RiderPath> = trip
+                .plan
+                .riders
+                .iter()
+                .map(|rider| RiderPath {
+                    pick: super::grasp_path(&rider.pick, gripper),
+                    release: rider.release.center,
+                })
+                .collect();
+            model.trip_seconds_with_riders(
                 gripper,
                 &pushes,
+                &riders,
                 &super::grasp_path(&trip.plan.grasp, gripper),
             )
         })

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::Pricing;
+use super::{Pricing, Riders};
 use crate::cluster::{FlushPairs, Hierarchical, HierarchicalSettings, Milp, MilpSettings, RowTest};
 use crate::error::Result;
 use crate::grasp::{GraspModel, MultiObjectSettings, SingleObjectSettings};
@@ -53,6 +53,10 @@ pub struct PolicySettings {
     /// Whether pushes are made whenever a multi-object grasp follows them (objects per trip, the
     /// default) or only when they are expected to save robot time ([`Pricing`]).
     pub pricing: Pricing,
+    /// Riders: single objects put down on a row's top before its grasp (off by default; written
+    /// only when set).
+    #[serde(skip_serializing_if = "Riders::is_default")]
+    pub riders: Riders,
 }
 
 impl Default for PolicySettings {
@@ -71,6 +75,7 @@ impl Default for PolicySettings {
             rollout: false,
             time_model: TimeModel::default(),
             pricing: Pricing::default(),
+            riders: Riders::default(),
         }
     }
 }
@@ -161,6 +166,7 @@ impl PolicySettings {
         self.single.validate()?;
         self.multi.validate()?;
         self.pricing.validate()?;
+        self.riders.validate()?;
         crate::error::count_in_range(
             "run",
             "max_failed_attempts",

@@ -73,15 +73,22 @@ impl Policy {
         if let Some(seconds) = clustering_seconds {
             counters.push(("clustering_seconds".to_string(), seconds));
         }
+        let trip = match drafted {
+            Ok(mut trip) => {
+                if self.settings.riders.enabled {
+                    let predicted = predict(scene, &trip.pushes)?;
+                    trip.riders = self.riders_for(&predicted, &trip, &context.failed)?;
+                }
+                Ok(trip)
+            }
+            Err(no_trip) => Err(no_trip),
+        };
         let stats = Stats {
             seconds: started.elapsed().as_secs_f64(),
             counters,
             ..Stats::default()
         };
-        Ok(TripAnswer {
-            trip: drafted,
-            stats,
-        })
+        Ok(TripAnswer { trip, stats })
     }
 
     fn draft_single(
@@ -117,6 +124,7 @@ impl Policy {
                         ahead: Vec::new(),
                         ahead_rows: Vec::new(),
                         push_statuses: Vec::new(),
+                        riders: Vec::new(),
                     }));
                 }
                 None if first_failure.is_none() => {
@@ -188,6 +196,7 @@ impl Policy {
                 ahead: Vec::new(),
                 ahead_rows: Vec::new(),
                 push_statuses: status.into_iter().collect(),
+                riders: Vec::new(),
             };
         let mut skipped = Vec::new();
         if let Some(pusher) = self.pusher.as_deref()

@@ -25,7 +25,9 @@
 mod placement;
 mod support;
 
-pub use placement::{NoPlacement, Placement, StackSettings, place_rider, plates_carry};
+pub use placement::{
+    NoPlacement, Placement, StackSettings, place_rider, plates_carry, standing_margin,
+};
 pub use support::{Row, Support};
 
 /// Standard gravity, m/s².

@@ -253,6 +253,19 @@ fn clip(points: &[Point2<f64>], normal: &Vector2<f64>, d: f64) -> Vec<Point2<f64
     out
 }
 
+/// How far the centroid of `footprint` lies inside the hull of the parts of the faces `tops` that
+/// the footprint covers, metres (negative outside, `-∞` when it covers none): check 1 of
+/// `formulations/stacking.md` without its margin.
+pub fn standing_margin(tops: &[ConvexPolygon], footprint: &ConvexPolygon) -> f64 {
+    let support = Support {
+        height: 0.0,
+        members: (0..tops.len()).collect(),
+        faces: tops.to_vec(),
+        hull: footprint.clone(),
+    };
+    resting(&support, footprint, &footprint.centroid()).0
+}
+
 /// The margin of `centroid` inside the hull of the parts of the top faces that `footprint` covers
 /// (negative outside), and which faces those are.
 fn resting(

@@ -154,6 +154,15 @@ pub struct PushPath {
     pub look_after: bool,
 }
 
+/// A rider as the time model sees it: its pick, and where the jaws let it go on the row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RiderPath {
+    /// The single-object grasp that picks it.
+    pub pick: GraspPath,
+    /// Gripper centre where the jaws open to let it go.
+    pub release: Point2<f64>,
+}
+
 /// A grasp as the time model sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GraspPath {
@@ -258,6 +267,17 @@ impl TimeModel {
         self.seconds(&self.trip_commands(gripper, pushes, grasp))
     }
 
+    /// Seconds of a trip that puts `riders` on its row before the grasp (no observation time).
+    pub fn trip_seconds_with_riders(
+        &self,
+        gripper: &Gripper,
+        pushes: &[PushPath],
+        riders: &[RiderPath],
+        grasp: &GraspPath,
+    ) -> f64 {
+        self.seconds(&self.trip_commands_with_riders(gripper, pushes, riders, grasp))
+    }
+
     /// The commands of one trip, in order, as [`TimeModel::trip_seconds`] charges them: per push a
     /// jaw command to its opening (left out when the jaws stand there already), travel, descend,
     /// push, rise; then travel to the grasp, jaws to the grasp's opening, descend, close, lift, to the
@@ -268,6 +288,20 @@ impl TimeModel {
         &self,
         gripper: &Gripper,
         pushes: &[PushPath],
+        grasp: &GraspPath,
+    ) -> Vec<Command> {
+        self.trip_commands_with_riders(gripper, pushes, &[], grasp)
+    }
+
+    /// As [`TimeModel::trip_commands`], with each rider put on the row after the pushes and before
+    /// the grasp (`formulations/stacking.md`): travel to its pick, jaws to the pick's opening,
+    /// descend, close on it, lift (blended into the next move), travel to where it is let go,
+    /// descend, open to the pick's opening, rise (blended into the travel that follows).
+    pub fn trip_commands_with_riders(
+        &self,
+        gripper: &Gripper,
+        pushes: &[PushPath],
+        riders: &[RiderPath],
         grasp: &GraspPath,
     ) -> Vec<Command> {
         let mut commands = Vec::with_capacity(5 * pushes.len() + 7);
@@ -302,6 +336,19 @@ impl TimeModel {
                 !push.look_after && !jaws_next,
             ));
             at = Some(push.end);
+        }
+        for rider in riders {
+            let pick = &rider.pick;
+            commands.push(Command::Arm(travel(pick.center, &mut at)));
+            commands.push(Command::Jaws(pick.opening - jaws));
+            commands.push(Command::Arm(self.approach_height));
+            commands.push(Command::Jaws(pick.opening - pick.closed));
+            commands.push(flowing(self.approach_height, true));
+            commands.push(Command::Arm(travel(rider.release, &mut at)));
+            commands.push(Command::Arm(self.approach_height));
+            commands.push(Command::Jaws(pick.opening - pick.closed));
+            commands.push(flowing(self.approach_height, true));
+            jaws = pick.opening;
         }
         commands.push(Command::Arm(travel(grasp.center, &mut at)));
         commands.push(Command::Jaws(grasp.opening - jaws));

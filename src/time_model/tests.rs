@@ -154,3 +154,36 @@ fn only_the_first_of_several_fork_pushes_moves_the_jaws() {
     );
     assert!((first - later - jaw).abs() < 1e-12);
 }
+
+#[test]
+fn a_rider_costs_its_pick_and_its_release_before_the_grasp() {
+    let (model, gripper) = (TimeModel::default(), Gripper::default());
+    let grasp = GraspPath {
+        center: Point2::new(0.0, 0.0),
+        ..TimeModel::nominal_grasp(&gripper)
+    };
+    let rider = RiderPath {
+        pick: GraspPath {
+            center: Point2::new(0.1, 0.0),
+            ..TimeModel::nominal_grasp(&gripper)
+        },
+        release: Point2::new(0.0, 0.02),
+    };
+    let without = model.trip_commands_with_riders(&gripper, &[], &[], &grasp);
+    let with = model.trip_commands_with_riders(&gripper, &[], &[rider], &grasp);
+    // Nine commands: travel, jaws, descend, close, lift (blended), travel over the row, descend,
+    // open, rise (blended); seven of them stop.
+    assert_eq!(with.len(), without.len() + 9);
+    let stops = |commands: &[Command]| {
+        commands
+            .iter()
+            .filter(|c| !matches!(c, Command::Through(_)))
+            .count()
+    };
+    assert_eq!(stops(&with), stops(&without) + 7);
+    assert!(
+        model.seconds(&with) - model.seconds(&without) > 6.0 * model.arm_settle,
+        "{}",
+        model.seconds(&with) - model.seconds(&without)
+    );
+}

@@ -33,15 +33,19 @@ use rapier3d_f64::math::{Rotation, Vector};
 
 use self::prism::Prism;
 use self::world::{Stage, StageSettings};
-use super::{Executor, GraspResult, Landing};
+use super::{Executor, GraspResult, Landing, RIDER_LEFT};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;
 use crate::grasp::Grasp;
+use crate::plan::Rider;
 use crate::push::Push;
 use crate::random::SeededRng;
 use crate::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
 
 pub use rollout::Rollout;
+
+/// A rider whose base is this high above the table still stands on something, metres.
+const RIDING: f64 = 0.005;
 pub use settings::{FingerDrive, SimSettings};
 
 /// What [`Sim::close_and_release`] saw once the jaws had closed.
@@ -65,6 +69,8 @@ pub struct Sim {
     workspace: Option<Workspace>,
     gripper: Gripper,
     lost: Vec<(ObjectId, &'static str)>,
+    /// Objects put down on a row as riders and not carried since.
+    placed: Vec<ObjectId>,
 }
 
 impl Sim {
@@ -88,6 +94,7 @@ impl Sim {
             workspace: None,
             gripper: Gripper::default(),
             lost: Vec::new(),
+            placed: Vec::new(),
         })
     }
 
@@ -229,6 +236,15 @@ impl Sim {
         }
     }
 
+    /// The highest point of these prisms above the table, metres, riders standing on others
+    /// included.
+    fn top_of(&self, members: &[usize]) -> f64 {
+        members
+            .iter()
+            .map(|&i| self.prisms[i].translation.z.max(0.0) + self.prisms[i].height)
+            .fold(0.0, f64::max)
+    }
+
     fn tallest(&self, members: &[usize]) -> f64 {
         members
             .iter()
@@ -256,6 +272,7 @@ impl Executor for Sim {
         self.workspace = Some(scene.workspace().clone());
         self.gripper = scene.gripper().clone();
         self.lost.clear();
+        self.placed.clear();
         self.prisms = scene
             .objects()
             .iter()
@@ -350,8 +367,69 @@ impl Executor for Sim {
                 true
             }
         });
+        self.placed.retain(|id| !carried.contains(id));
         // Anything else that left the stage upward and fell is back on the table by now.
         Ok(GraspResult::carried(carried))
+    }
+
+    /// The rider's pick is its single-object grasp, closed with the fingertips at half its height
+    /// (not `grasp_height`) so that they stay clear of the row's top when it is put down. The jaws
+    /// lift it 1 cm clear of everything within reach of the path, carry it over the release (turning
+    /// with it), lower it until its base is 2 mm above the row's top, open to the pick's opening,
+    /// and rise. Actuation noise offsets the pick and the release alike.
+    fn place(&mut self, rider: &Rider) -> Result<Option<Landing>> {
+        self.table()?;
+        let s = self.settings.clone();
+        let Some(index) = self.prisms.iter().position(|p| p.id == rider.object) else {
+            return Err(Error::misuse(
+                "simulator",
+                format!("no object {} on the table to place", rider.object),
+            ));
+        };
+        let (ex, ey, eyaw) = self.actuation();
+        let jaws = &rider.pick.jaws;
+        let centre = (jaws.center.x + ex, jaws.center.y + ey);
+        let release = (rider.release.center.x + ex, rider.release.center.y + ey);
+        let members = self.near(centre, release);
+        let top = self.top_of(&members);
+        let above = top + 0.005;
+        let grip = (0.5 * self.prisms[index].height).max(s.grasp_height);
+        let mut stage = Stage::new(
+            &self.prisms,
+            &members,
+            &self.gripper,
+            &self.stage_settings(),
+            centre,
+            above,
+            jaws.angle + eyaw,
+            jaws.opening,
+        );
+        if let Some(landed) = stage.descend(above - grip, s.vertical_speed) {
+            return Ok(Some(self.abandon(stage, above, landed)));
+        }
+        let timeout = jaws.opening / s.jaw_speed + 0.5;
+        stage.close(s.jaw_speed, s.grip_force, timeout);
+        stage.wait(0.05);
+        // Base 1 cm above everything in reach.
+        let lift = top + 0.01;
+        stage.travel(Vector::new(0.0, 0.0, lift), s.vertical_speed);
+        stage.travel_turning(
+            Vector::new(release.0 - centre.0, release.1 - centre.1, 0.0),
+            rider.release.angle - jaws.angle,
+            s.vertical_speed,
+        );
+        stage.travel(
+            Vector::new(0.0, 0.0, -(lift - rider.base - 0.002)),
+            s.vertical_speed,
+        );
+        stage.open(jaws.opening, s.jaw_speed);
+        stage.wait(0.1);
+        let rise = above - stage.tip_height();
+        stage.travel(Vector::new(0.0, 0.0, rise), s.vertical_speed);
+        stage.wait(0.05);
+        stage.write_back(&mut self.prisms);
+        self.placed.push(rider.object);
+        Ok(None)
     }
 
     fn observe(&mut self) -> Result<Scene> {
@@ -361,6 +439,14 @@ impl Executor for Sim {
         let mut truth: Vec<Object> = Vec::new();
         self.lost.clear();
         for prism in &self.prisms {
+            // A rider still standing on something: the camera sees it on top, not on the table.
+            if self.placed.contains(&prism.id)
+                && prism.tilt() <= s.topple_angle
+                && prism.translation.z > RIDING
+            {
+                self.lost.push((prism.id, RIDER_LEFT));
+                continue;
+            }
             // Upright, it is its own prism; toppled flat on a face, the camera sees a new one.
             let (polygon, pose, height) = if prism.tilt() <= s.topple_angle {
                 (prism.polygon.clone(), prism.planar_pose(), prism.height)

@@ -241,10 +241,21 @@ pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Re
 ///
 /// # Errors
 /// [`Error::InvalidField`] when a trip's scene is invalid, or a trip does not fit the configured
-/// gripper ([`check_trip_fits`], naming the trip and the field).
+/// gripper ([`check_trip_fits`], naming the trip and the field); [`Error::Misuse`] for a plan with
+/// riders, which the UR5 executor cannot place yet (`formulations/stacking.md`).
 pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
     let mut steps = Vec::new();
     for (t, trip) in plan.trips.iter().enumerate() {
+        if let Some(rider) = trip.plan.riders.first() {
+            return Err(Error::misuse(
+                "ur5",
+                format!(
+                    "trip {}: the UR5 executor cannot place riders yet (object {} was to ride)",
+                    t + 1,
+                    rider.object
+                ),
+            ));
+        }
         let scene = Scene::new(trip.scene.to_spec())?;
         check_trip_fits(
             &translator.config().gripper,

@@ -127,6 +127,13 @@ pub struct LogRow {
     /// recorded.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub push_statuses: std::collections::BTreeMap<String, usize>,
+    /// Riders put down on rows (`Plan::riders_placed`); absent when none was.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub riders_placed: usize,
+    /// Riders put down that their trip did not carry (`Plan::riders_lost`); absent when none was
+    /// lost.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub riders_lost: usize,
     /// Whether the table was cleared.
     pub cleared: bool,
     /// Objects left, and why, when not cleared.
@@ -139,6 +146,10 @@ pub struct LogRow {
     pub picks_per_hour: f64,
     /// Wall-clock measurements.
     pub timing: RowTiming,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// A log read from disk.

@@ -77,13 +77,15 @@ pub fn verify(plan: &Plan) -> Vec<Violation> {
 /// Violations of the record as a whole:
 /// - the robot time is a finite, non-negative number of seconds;
 /// - no object is carried twice;
-/// - with plans applied exactly (`ideal`), each trip carries exactly what its grasp claims (unless a
+/// - with plans applied exactly (`ideal`), each trip carries exactly what its grasp claims and its
+///   riders (unless a
 ///   landing stopped it) and only objects on its table, each look during a trip is its table after
 ///   the pushes made before the look, and each trip's table is the previous one's after its pushes
 ///   less what it carried;
 /// - with other executors (physics, a robot), objects may topple out of view and come back, or be
-///   lifted along with others: a trip's table holds only objects seen before and not yet carried, and
-///   what a trip carries was seen before and not yet carried;
+///   lifted along with others: a trip's table and its looks hold only objects seen before and not
+///   yet carried, and what a trip carries was seen before and not yet carried (with plans applied
+///   exactly, a look holds only objects of its trip's table);
 /// - a cleared run carried every object it saw; a stopped one left every object it saw and did not
 ///   carry, and carried none of those it says are left.
 pub fn verify_record(plan: &Plan) -> Vec<Violation> {
@@ -135,6 +137,19 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
             }
         }
         seen.extend(here.iter().copied());
+        // A look shows the trip's table after some of its pushes: with plans applied exactly only
+        // objects of that table; in physics also one seen before that was out of view (toppled,
+        // or a rider standing on another object) and has come back.
+        for (n, look) in trip.looks.iter().enumerate() {
+            for id in look.scene.ids() {
+                if carried.contains(&id) || !(here.contains(&id) || !exact && seen.contains(&id)) {
+                    add(
+                        Some(k),
+                        format!("look {n}: object {id} was not on the trip's table"),
+                    );
+                }
+            }
+        }
         let mut this_trip: BTreeSet<ObjectId> = BTreeSet::new();
         for id in &trip.carried {
             if !this_trip.insert(*id) || carried.contains(id) {
@@ -150,7 +165,14 @@ pub fn verify_record(plan: &Plan) -> Vec<Violation> {
             }
         }
         if exact && trip.fault.is_none() {
-            let claimed: BTreeSet<ObjectId> = trip.plan.grasp.objects.iter().copied().collect();
+            let claimed: BTreeSet<ObjectId> = trip
+                .plan
+                .grasp
+                .objects
+                .iter()
+                .chain(trip.plan.riders.iter().map(|r| &r.object))
+                .copied()
+                .collect();
             if claimed != this_trip {
                 add(
                     Some(k),
@@ -248,6 +270,7 @@ fn pose_off(pose: crate::scene::Pose, expected: &[f64; 3]) -> f64 {
 }
 
 mod actions;
+mod riders;
 mod trip;
 
 pub use trip::{verify_clustering, verify_trip};

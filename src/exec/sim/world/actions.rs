@@ -1,7 +1,7 @@
 //! What a stage does, one call per motion of the gripper: wait, travel, descend, close, open; and
 //! the objects' poses read back.
 
-use rapier3d_f64::math::Vector;
+use rapier3d_f64::math::{Rotation, Vector};
 use rapier3d_f64::prelude::*;
 
 use super::Stage;
@@ -36,6 +36,25 @@ impl Stage {
         let start = self.palm_translation;
         for k in 1..=steps {
             self.move_palm_to(start + offset * (k as f64 / steps as f64));
+            self.step();
+        }
+    }
+
+    /// Moves the palm in a straight line by `offset` while turning it by `turn` radians about the
+    /// vertical, at `speed` (the faster of the palm's centre and the fingertips' arc), simulating
+    /// each step.
+    pub fn travel_turning(&mut self, offset: Vector, turn: f64, speed: f64) {
+        let arc = turn.abs() * self.drive.opening / 2.0;
+        let distance = offset.length().max(arc);
+        if distance == 0.0 {
+            return;
+        }
+        let steps = (distance / (speed * self.time_step)).ceil().max(1.0) as usize;
+        let (start, facing) = (self.palm_translation, self.palm_rotation);
+        for k in 1..=steps {
+            let share = k as f64 / steps as f64;
+            self.palm_rotation = Rotation::from_rotation_z(turn * share) * facing;
+            self.move_palm_to(start + offset * share);
             self.step();
         }
     }

@@ -1,0 +1,195 @@
+//! Riders chosen for a trip (`formulations/stacking.md`): after the trip's pushes, objects the
+//! clustering leaves to be taken by themselves are offered, nearest first, to the row the trip's
+//! grasp takes. One rides when the quasi-static checks place it ([`crate::stack::place_rider`]), the
+//! plates still carry the row with it, nothing beside the row stands above the row's top under it,
+//! and the single-object planner has a grasp to pick it with. One rider per row.
+
+use nalgebra::{Isometry2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::{Policy, TripPlan};
+use crate::error::{Error, Result};
+use crate::geometry::overlap;
+use crate::grasp::{GraspRequest, JawPose};
+use crate::plan::Rider;
+use crate::scene::{ObjectId, Pose, Scene};
+use crate::stack::{Row, StackSettings, place_rider, plates_carry};
+
+/// Whether a policy puts riders on its rows, and the checks that decide where.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct Riders {
+    /// Put riders on rows. Default false.
+    pub enabled: bool,
+    /// The checks (`formulations/stacking.md`).
+    pub checks: StackSettings,
+}
+
+impl Riders {
+    /// Off and with the default checks: left out of written settings.
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] naming the first field out of range.
+    pub fn validate(&self) -> Result<()> {
+        let c = &self.checks;
+        for (name, value) in [
+            ("height_tolerance", c.height_tolerance),
+            ("support_margin", c.support_margin),
+            ("pad_margin", c.pad_margin),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::field(
+                    "riders.checks",
+                    name,
+                    format!("must be finite and at least 0 (metres), got {value}"),
+                ));
+            }
+        }
+        for (name, value) in [
+            ("acceleration", c.acceleration),
+            ("slide_factor", c.slide_factor),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(Error::field(
+                    "riders.checks",
+                    name,
+                    format!("must be finite and above 0, got {value}"),
+                ));
+            }
+        }
+        if c.yaws == 0 {
+            return Err(Error::field("riders.checks", "yaws", "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
+impl Policy {
+    /// Riders for `trip`, on `predicted`, the table after its pushes; none when riders are off, the
+    /// grasp takes fewer than two objects, or no object passes (see the module docs). Jaws in
+    /// `avoid` (grasps that failed before) are not proposed for a pick.
+    pub(super) fn riders_for(
+        &self,
+        predicted: &Scene,
+        trip: &TripPlan,
+        avoid: &[JawPose],
+    ) -> Result<Vec<Rider>> {
+        let settings = &self.settings.riders;
+        if !settings.enabled || trip.grasp.objects.len() < 2 {
+            return Ok(Vec::new());
+        }
+        let members: Vec<usize> = trip
+            .grasp
+            .objects
+            .iter()
+            .filter_map(|&id| predicted.index_of(id))
+            .collect();
+        let jaws = &trip.grasp.jaws;
+        let row = Row {
+            outlines: members
+                .iter()
+                .map(|&i| predicted.world_polygon(i).clone())
+                .collect(),
+            heights: members
+                .iter()
+                .map(|&i| predicted.objects()[i].height)
+                .collect(),
+            axis: Vector2::new(jaws.angle.cos(), jaws.angle.sin()),
+        };
+        let model = self.problem.grasp_model();
+        let row_masses: Vec<f64> = members
+            .iter()
+            .map(|&i| model.mass_of(&predicted.objects()[i]))
+            .collect();
+        let busy: Vec<ObjectId> = trip
+            .grasp
+            .objects
+            .iter()
+            .chain(&trip.ahead)
+            .copied()
+            .chain(trip.pushes.iter().map(|p| p.object))
+            .collect();
+        let mut offered: Vec<(f64, usize)> = trip
+            .clustering
+            .clusters
+            .iter()
+            .filter(|cluster| cluster.len() == 1 && !busy.contains(&cluster[0]))
+            .filter_map(|cluster| predicted.index_of(cluster[0]))
+            .map(|i| {
+                let at = predicted.objects()[i].world_centroid();
+                (nalgebra::distance(&at, &jaws.center), i)
+            })
+            .collect();
+        offered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, index) in offered {
+            let object = &predicted.objects()[index];
+            if !plates_carry(
+                model.friction_jaw,
+                model.grip_force,
+                &row_masses,
+                &[model.mass_of(object)],
+            ) {
+                continue;
+            }
+            let Ok(placed) = place_rider(
+                &row,
+                &object.polygon,
+                object.height,
+                model.friction_object,
+                &settings.checks,
+            ) else {
+                continue;
+            };
+            // Nothing but the row and the rider itself may stand above the row's top under it.
+            let footprint = object.polygon.transformed(&placed.pose.isometry());
+            let clash = predicted.objects().iter().enumerate().any(|(i, other)| {
+                i != index
+                    && !members.contains(&i)
+                    && other.height > placed.base
+                    && overlap(predicted.world_polygon(i), &footprint, 0.0)
+            });
+            if clash {
+                continue;
+            }
+            let Some(pick) = self
+                .single
+                .plan_request(&GraspRequest::new(predicted, &[object.id]).avoiding(avoid))?
+                .value
+            else {
+                continue;
+            };
+            let release = moved_with(&pick.jaws, &object.pose, &placed.pose);
+            return Ok(vec![Rider {
+                object: object.id,
+                pick,
+                place: placed.pose,
+                release,
+                base: placed.base,
+                on: placed
+                    .resting_on
+                    .iter()
+                    .map(|&k| predicted.objects()[members[k]].id)
+                    .collect(),
+            }]);
+        }
+        Ok(Vec::new())
+    }
+}
+
+/// The jaws `jaws`, holding an object at `from`, once the object has been carried to `to` without
+/// slipping in them.
+pub(super) fn moved_with(jaws: &JawPose, from: &Pose, to: &Pose) -> JawPose {
+    let held = Isometry2::new(jaws.center.coords, jaws.angle);
+    let relative = from.isometry().inverse() * held;
+    let moved = to.isometry() * relative;
+    JawPose {
+        center: moved.translation.vector.into(),
+        angle: jaws.angle + (to.yaw - from.yaw),
+        opening: jaws.opening,
+    }
+}
