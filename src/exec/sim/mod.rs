@@ -13,8 +13,11 @@
 //!   `push_speed`, raised.
 //! - **Grasp and trip**: jaws opened as planned above the grasp (with actuation noise), lowered to
 //!   `grasp_height`, closed at `jaw_speed` with at most `grip_force` per finger until they stop, lifted
-//!   by `lift`, left to settle; the objects lifted clear of the table are carried to the bin. Anything
-//!   dropped stays where physics leaves it.
+//!   by `lift`, left to settle; with riders aboard, carried sideways by `carry` at
+//!   `carry_acceleration` and left to settle again; the objects lifted clear of the table are
+//!   carried to the bin. Anything dropped stays where physics leaves it.
+//! - **Place** (riders, `formulations/stacking.md`): the rider picked with its single-object grasp,
+//!   lifted clear, carried and turned over the row, put down on its top, let go.
 //! - **Perception**: an observation is the true planar poses plus Gaussian noise (seeded). Objects
 //!   tilted past `topple_angle` or whose outline has left the workspace cannot be planned for; they are
 //!   reported by [`Executor::lost`] and end the run when nothing else is left. Noise that would make two
@@ -348,6 +351,19 @@ impl Executor for Sim {
         stage.wait(0.05);
         stage.travel(Vector::new(0.0, 0.0, s.lift), s.vertical_speed);
         stage.wait(s.settle);
+        // With riders aboard, the row goes sideways toward the bin at the arm's acceleration,
+        // which is what may tip or slide a rider.
+        let centre = (grasp.jaws.center.x, grasp.jaws.center.y);
+        let aboard = self
+            .near(centre, centre)
+            .iter()
+            .any(|&i| self.placed.contains(&self.prisms[i].id));
+        if aboard && s.carry > 0.0 {
+            let along = grasp.jaws.angle + std::f64::consts::FRAC_PI_2;
+            let offset = Vector::new(along.cos(), along.sin(), 0.0) * s.carry;
+            stage.carry(offset, s.carry_speed, s.carry_acceleration);
+            stage.wait(s.settle);
+        }
         stage.write_back(&mut self.prisms);
         // Carried: lifted clear of the table (its lowest point at least half the lift up).
         let clear = 0.5 * s.lift;
@@ -424,7 +440,9 @@ impl Executor for Sim {
         );
         stage.open(jaws.opening, s.jaw_speed);
         stage.wait(0.1);
-        let rise = above - stage.tip_height();
+        // Up until the fingertips are 1 cm above the rider's top.
+        let clear = rider.base + self.prisms[index].height + 0.01;
+        let rise = (clear - stage.tip_height()).max(0.0);
         stage.travel(Vector::new(0.0, 0.0, rise), s.vertical_speed);
         stage.wait(0.05);
         stage.write_back(&mut self.prisms);

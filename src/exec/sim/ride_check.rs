@@ -37,30 +37,6 @@ fn prism(id: u32, outline: ConvexPolygon, at: (f64, f64, f64), yaw: f64, height:
     }
 }
 
-/// Moves the palm by `distance` along x with a trapezoidal speed profile: `acceleration` up to
-/// `speed`, then down again, in short constant-speed pieces.
-fn carry(stage: &mut Stage, distance: f64, speed: f64, acceleration: f64, time_step: f64) {
-    let ramp = speed / acceleration;
-    let pieces = (ramp / time_step / 4.0).ceil().max(1.0) as usize;
-    let mut gone = 0.0;
-    let ramp_piece = |stage: &mut Stage, k: usize, gone: &mut f64| {
-        let v = speed * (k as f64 + 0.5) / pieces as f64;
-        let step = v * ramp / pieces as f64;
-        stage.travel(Vector::new(step, 0.0, 0.0), v);
-        *gone += step;
-    };
-    for k in 0..pieces {
-        ramp_piece(stage, k, &mut gone);
-    }
-    let cruise = distance - 2.0 * gone;
-    if cruise > 0.0 {
-        stage.travel(Vector::new(cruise, 0.0, 0.0), speed);
-    }
-    for k in (0..pieces).rev() {
-        ramp_piece(stage, k, &mut gone);
-    }
-}
-
 /// What became of a 20 mm cube resting on a pair of 35 mm cubes pushed together along x (70 mm of
 /// the 75 mm the jaws open to), its centroid where `stack::place_rider` puts it and then `shift`
 /// further along y, after the closing, a 10 cm lift and a 0.3 m carry at 1.2 m/s² (top speed
@@ -116,7 +92,7 @@ fn ride(shift: f64) -> (f64, f64, f64) {
         Vector::new(0.0, 0.0, settings.lift),
         settings.vertical_speed,
     );
-    carry(&mut stage, 0.3, 0.5, stack.acceleration, settings.time_step);
+    stage.carry(Vector::new(0.3, 0.0, 0.0), 0.5, stack.acceleration);
     stage.wait(settings.settle);
     stage.write_back(&mut prisms);
     let moved = (relative(&prisms) - before).length();

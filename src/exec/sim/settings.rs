@@ -70,6 +70,15 @@ pub struct SimSettings {
     pub grasp_height: f64,
     /// How high a grasp lifts, metres. Default 0.1.
     pub lift: f64,
+    /// With riders aboard, how far the lifted row is then carried sideways (along the plates)
+    /// before what is carried is counted, metres. Default 0.3, the time model's bin distance.
+    /// Without riders nothing is carried sideways: what the jaws hold after the lift stays held.
+    pub carry: f64,
+    /// Top speed of that carry, m/s. Default 0.25, the time model's `travel_speed`.
+    pub carry_speed: f64,
+    /// Acceleration and deceleration of that carry, m/s². Default 1.2, the time model's
+    /// `travel_acceleration` (a UR's usual linear moves).
+    pub carry_acceleration: f64,
     /// Time allowed for things to come to rest after closing and after lifting, seconds. Default 0.3.
     pub settle: f64,
     /// Simulation time step, seconds. Default 0.002 (500 Hz; objects move under 0.2 mm per step).
@@ -113,6 +122,9 @@ impl Default for SimSettings {
             push_height_fraction: 0.5,
             grasp_height: 0.002,
             lift: 0.1,
+            carry: 0.3,
+            carry_speed: 0.25,
+            carry_acceleration: 1.2,
             settle: 0.3,
             time_step: 0.002,
             contact_frequency: 1000.0,
@@ -254,6 +266,24 @@ impl SimSettings {
                 self.lift,
                 (0.01, 0.5),
                 "m; enough to see what is carried, short enough to simulate",
+            ),
+            (
+                "carry",
+                self.carry,
+                (0.0, 2.0),
+                "m; a bin within a few metres",
+            ),
+            (
+                "carry_speed",
+                self.carry_speed,
+                (0.01, 2.0),
+                "m/s; a UR5 tool moves at most about 1 m/s",
+            ),
+            (
+                "carry_acceleration",
+                self.carry_acceleration,
+                (0.05, 20.0),
+                "m/s²; a UR's linear moves default to 1.2",
             ),
             (
                 "settle",

@@ -59,6 +59,33 @@ impl Stage {
         }
     }
 
+    /// Moves the palm by `offset` with a trapezoidal speed profile: `acceleration` up to `speed`
+    /// (or less on a short move), then down again, in short constant-speed pieces.
+    pub fn carry(&mut self, offset: Vector, speed: f64, acceleration: f64) {
+        let distance = offset.length();
+        if distance == 0.0 {
+            return;
+        }
+        let top = speed.min((distance * acceleration).sqrt());
+        let ramp = top / acceleration;
+        let pieces = (ramp / self.time_step / 4.0).ceil().max(1.0) as usize;
+        let direction = offset / distance;
+        let piece = |stage: &mut Self, k: usize| {
+            let v = top * (k as f64 + 0.5) / pieces as f64;
+            stage.travel(direction * (v * ramp / pieces as f64), v);
+        };
+        for k in 0..pieces {
+            piece(self, k);
+        }
+        let cruise = distance - top * ramp;
+        if cruise > 0.0 {
+            self.travel(direction * cruise, top);
+        }
+        for k in (0..pieces).rev() {
+            piece(self, k);
+        }
+    }
+
     /// Height of the fingertips above the table, metres.
     pub fn tip_height(&self) -> f64 {
         self.palm_translation.z - self.half_finger
