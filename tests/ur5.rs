@@ -15,7 +15,7 @@ use pushmog::plan::Plan;
 use pushmog::policy::{Policy, PolicyKind, PolicySettings, grasp_path, push_paths};
 use pushmog::random::SeededRng;
 use pushmog::scene::SceneSpec;
-use pushmog::time_model::{Command, TimeModel};
+use pushmog::time_model::{Command, RiderPath, TimeModel};
 
 use crate::support::{fixture, pushmog, scratch};
 
@@ -183,22 +183,48 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
         ahead.trips.iter().any(|t| t.plan.pushes.len() >= 2),
         "a trip pushing two rows ahead or more"
     );
+    // Riders: each put on its row by the place action's steps.
+    let mut with_riders = PolicySettings::default();
+    with_riders.riders.enabled = true;
+    let stacking = Policy::new(PolicyKind::PushMogOpt, with_riders).unwrap();
+    let riding = stacking.run(&scene, &mut stacking.ideal(), 4).unwrap();
+    assert!(riding.riders_placed() > 0, "a trip with a rider");
     let mut jaws_left_out = 0;
     let mut blended = 0;
-    for plan in [fixture_plan(), run, ahead] {
+    for plan in [fixture_plan(), run, ahead, riding] {
         for (t, trip) in plan.trips.iter().enumerate() {
             let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();
             let looks: Vec<usize> = trip.looks.iter().map(|l| l.after_pushes).collect();
-            let steps = translator.trip(&scene, &trip.plan.pushes, &looks, &trip.plan.grasp, t + 1);
+            let steps = translator.trip(
+                &scene,
+                &trip.plan.pushes,
+                &looks,
+                &trip.plan.riders,
+                &trip.plan.grasp,
+                t + 1,
+            );
             let mut paths = push_paths(&trip.plan.pushes);
             for &after in &looks {
                 paths[after - 1].look_after = true;
             }
-            let charged =
-                model.trip_commands(gripper, &paths, &grasp_path(&trip.plan.grasp, gripper));
+            let riders: Vec<RiderPath> = trip
+                .plan
+                .riders
+                .iter()
+                .map(|r| RiderPath {
+                    pick: grasp_path(&r.pick, gripper),
+                    release: r.release.center,
+                })
+                .collect();
+            let charged = model.trip_commands_with_riders(
+                gripper,
+                &paths,
+                &riders,
+                &grasp_path(&trip.plan.grasp, gripper),
+            );
             assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
-            jaws_left_out += 5 * trip.plan.pushes.len() + 7 - charged.len();
+            jaws_left_out += 5 * trip.plan.pushes.len() + 9 * riders.len() + 7 - charged.len();
             blended += charged
                 .iter()
                 .filter(|c| matches!(c, Command::Through(_)))

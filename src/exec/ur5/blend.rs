@@ -5,6 +5,7 @@
 
 use super::motion::{Action, LinearMove, Step, Translator};
 use crate::grasp::Grasp;
+use crate::plan::Rider;
 use crate::push::Push;
 use crate::scene::Scene;
 
@@ -20,6 +21,7 @@ impl Translator {
         scene: &Scene,
         pushes: &[Push],
         looks: &[usize],
+        riders: &[Rider],
         grasp: &Grasp,
         trip: usize,
     ) -> Vec<Step> {
@@ -33,6 +35,10 @@ impl Translator {
             }
             steps.extend(push_steps);
             jaws = Some(push.fork.opening);
+        }
+        for (k, rider) in riders.iter().enumerate() {
+            let name = format!("trip {trip}, rider {} of {}", k + 1, riders.len());
+            steps.extend(self.place_rider(scene, rider, &name));
         }
         steps.extend(self.grasp_and_trip(scene, grasp, &format!("trip {trip}, grasp")));
         self.blend(steps, None)

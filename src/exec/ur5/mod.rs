@@ -46,7 +46,7 @@ pub use urscript::{gripper_command, gripper_line, listing, motion_program, progr
 use crate::error::{Error, Result};
 use crate::exec::{Executor, GraspResult, Landing};
 use crate::grasp::Grasp;
-use crate::plan::Plan;
+use crate::plan::{Plan, Rider};
 use crate::push::Push;
 use crate::scene::{ObjectId, Scene, SceneSpec};
 
@@ -241,21 +241,10 @@ pub fn execute_plan<L: RobotLink>(runner: &mut StepRunner<L>, plan: &Plan) -> Re
 ///
 /// # Errors
 /// [`Error::InvalidField`] when a trip's scene is invalid, or a trip does not fit the configured
-/// gripper ([`check_trip_fits`], naming the trip and the field); [`Error::Misuse`] for a plan with
-/// riders, which the UR5 executor cannot place yet (`formulations/stacking.md`).
+/// gripper ([`check_trip_fits`], naming the trip and the field).
 pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
     let mut steps = Vec::new();
     for (t, trip) in plan.trips.iter().enumerate() {
-        if let Some(rider) = trip.plan.riders.first() {
-            return Err(Error::misuse(
-                "ur5",
-                format!(
-                    "trip {}: the UR5 executor cannot place riders yet (object {} was to ride)",
-                    t + 1,
-                    rider.object
-                ),
-            ));
-        }
         let scene = Scene::new(trip.scene.to_spec())?;
         check_trip_fits(
             &translator.config().gripper,
@@ -265,7 +254,14 @@ pub fn plan_steps(translator: &Translator, plan: &Plan) -> Result<Vec<Step>> {
             t + 1,
         )?;
         let looks: Vec<usize> = trip.looks.iter().map(|look| look.after_pushes).collect();
-        steps.extend(translator.trip(&scene, &trip.plan.pushes, &looks, &trip.plan.grasp, t + 1));
+        steps.extend(translator.trip(
+            &scene,
+            &trip.plan.pushes,
+            &looks,
+            &trip.plan.riders,
+            &trip.plan.grasp,
+            t + 1,
+        ));
     }
     Ok(steps)
 }
@@ -278,6 +274,9 @@ pub struct ExecutedTrip {
     pub scene: SceneSpec,
     /// The fork pushes completed.
     pub pushes: Vec<Push>,
+    /// The riders put down on the row (`formulations/stacking.md`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub riders: Vec<Rider>,
     /// The grasp, once its trip to the bin completed (`None` when the run stopped before).
     pub grasp: Option<Grasp>,
     /// The objects gone from the table after the trip.
@@ -335,6 +334,7 @@ impl<L: RobotLink> Ur5<L> {
             self.record.push(ExecutedTrip {
                 scene,
                 pushes: Vec::new(),
+                riders: Vec::new(),
                 grasp: None,
                 carried: Vec::new(),
             });
@@ -405,6 +405,23 @@ impl<L: RobotLink> Executor for Ur5<L> {
         self.pushed = true;
         self.jaws = Some(push.fork.opening);
         self.current_trip()?.pushes.push(push.clone());
+        Ok(None)
+    }
+
+    /// The rider's steps (`Translator::place_rider`); the rise waits for the next action, as a
+    /// push's does.
+    fn place(&mut self, rider: &Rider) -> Result<Option<Landing>> {
+        let placed = self.current_trip()?.riders.len();
+        let name = format!("trip {}, rider {}", self.record.len(), placed + 1);
+        let mut steps = self
+            .runner
+            .translator()
+            .place_rider(self.scene()?, rider, &name);
+        let rise = steps.pop();
+        self.run_after_rise(steps)?;
+        self.rise = rise;
+        self.jaws = None;
+        self.current_trip()?.riders.push(rider.clone());
         Ok(None)
     }
 

@@ -24,6 +24,7 @@ use super::calibration::Calibration;
 use super::config::RobotConfig;
 use crate::error::{Error, Result};
 use crate::grasp::Grasp;
+use crate::plan::Rider;
 use crate::push::Push;
 use crate::scene::{ObjectId, Scene};
 
@@ -102,6 +103,22 @@ pub enum Phase {
     ToBin,
     /// Grasp: open over the bin.
     Drop,
+    /// Rider: move above its pick.
+    AbovePick,
+    /// Rider: open the jaws to the pick's opening.
+    OpenForPick,
+    /// Rider: descend to half its height.
+    DescendToPick,
+    /// Rider: close on it with limited force.
+    ClosePick,
+    /// Rider: rise and move over the row.
+    CarryRider,
+    /// Rider: lower it onto the row's top.
+    LowerRider,
+    /// Rider: open to let it go.
+    Release,
+    /// Rider: rise from it.
+    RiseFromRider,
 }
 
 /// One robot step with a readable label (`trip 2, push 1 of 3: descend to mid-height`).
@@ -298,6 +315,70 @@ impl Translator {
                 ),
             ])
             .collect()
+    }
+
+    /// The eight steps that put a rider on its row (`formulations/stacking.md`): move above its
+    /// pick, open to the pick's opening, descend until the fingertips are at half its height, close,
+    /// rise and move over the release (one blended program), lower it until its base is 2 mm above
+    /// the row's top, open to let it go, rise (flowing into the next action). Travel is above the
+    /// rider standing on the row.
+    pub fn place_rider(&self, scene: &Scene, rider: &Rider, name: &str) -> Vec<Step> {
+        let height = self.height_of(scene, rider.object);
+        let grip = 0.5 * height;
+        let travel = self.travel_height(scene).max(rider.base + height) + grip;
+        let vertical = self.config.speeds.vertical;
+        let (pick, release) = (&rider.pick.jaws, &rider.release);
+        let at = |jaws: &crate::grasp::JawPose, z| {
+            self.tool_pose(jaws.center.x, jaws.center.y, z, jaws.angle)
+        };
+        let opening = self.config.gripper.count_for_opening(pick.opening);
+        vec![
+            Self::moves(
+                Phase::AbovePick,
+                format!("{name}: move above object {}", rider.object),
+                vec![self.travel(at(pick, travel))],
+            ),
+            self.gripper(
+                Phase::OpenForPick,
+                format!(
+                    "{name}: open to {:.1} mm between plate centres",
+                    pick.opening * 1e3
+                ),
+                opening,
+            ),
+            Self::moves(
+                Phase::DescendToPick,
+                format!("{name}: descend to half its height ({:.1} mm)", grip * 1e3),
+                vec![self.contact(at(pick, grip), vertical)],
+            ),
+            self.gripper(
+                Phase::ClosePick,
+                format!("{name}: close with limited force"),
+                self.config.gripper.closed_count,
+            ),
+            Self::moves(
+                Phase::CarryRider,
+                format!("{name}: rise and move over the row"),
+                vec![
+                    self.flowing(self.contact(at(pick, travel), vertical)),
+                    self.travel(at(release, travel)),
+                ],
+            ),
+            Self::moves(
+                Phase::LowerRider,
+                format!(
+                    "{name}: lower onto the row's top ({:.1} mm)",
+                    rider.base * 1e3
+                ),
+                vec![self.contact(at(release, rider.base + 0.002 + grip), vertical)],
+            ),
+            self.gripper(Phase::Release, format!("{name}: open to let go"), opening),
+            Self::moves(
+                Phase::RiseFromRider,
+                format!("{name}: rise"),
+                vec![self.flowing(self.contact(at(release, travel), vertical))],
+            ),
+        ]
     }
 
     /// The six steps of a grasp and its trip to the bin, planned on `scene`.
