@@ -26,6 +26,16 @@ mod separation;
 mod simplify;
 
 pub use discs::Discs;
+
+/// `angle` wrapped into (−π, π], radians: a turn the short way round.
+pub fn wrap_angle(angle: f64) -> f64 {
+    let wrapped = angle.rem_euclid(std::f64::consts::TAU);
+    if wrapped > std::f64::consts::PI {
+        wrapped - std::f64::consts::TAU
+    } else {
+        wrapped
+    }
+}
 pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use manifold::{ContactPoint, contact_points};
 pub use polygon::{ConvexPolygon, PolygonError, cross, point_bounds};

@@ -187,9 +187,10 @@ pub(super) fn moved_with(jaws: &JawPose, from: &Pose, to: &Pose) -> JawPose {
     let held = Isometry2::new(jaws.center.coords, jaws.angle);
     let relative = from.isometry().inverse() * held;
     let moved = to.isometry() * relative;
+    let turn = crate::geometry::wrap_angle(to.yaw - from.yaw);
     JawPose {
         center: moved.translation.vector.into(),
-        angle: jaws.angle + (to.yaw - from.yaw),
+        angle: jaws.angle + turn,
         opening: jaws.opening,
     }
 }

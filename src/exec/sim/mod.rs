@@ -431,7 +431,7 @@ impl Executor for Sim {
         stage.travel(Vector::new(0.0, 0.0, lift), s.vertical_speed);
         stage.travel_turning(
             Vector::new(release.0 - centre.0, release.1 - centre.1, 0.0),
-            rider.release.angle - jaws.angle,
+            crate::geometry::wrap_angle(rider.release.angle - jaws.angle),
             s.vertical_speed,
         );
         stage.travel(

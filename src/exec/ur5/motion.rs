@@ -121,6 +121,17 @@ pub enum Phase {
     RiseFromRider,
 }
 
+/// The tool's yaw for jaws along `jaw_angle`, folded into (−π/2, π/2] (the jaws are symmetric
+/// under a half turn).
+fn tool_yaw(jaw_angle: f64) -> f64 {
+    let yaw = (jaw_angle - std::f64::consts::FRAC_PI_2).rem_euclid(std::f64::consts::PI);
+    if yaw > std::f64::consts::FRAC_PI_2 {
+        yaw - std::f64::consts::PI
+    } else {
+        yaw
+    }
+}
+
 /// One robot step with a readable label (`trip 2, push 1 of 3: descend to mid-height`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Step {
@@ -185,14 +196,15 @@ impl Translator {
 
     /// A tool pose above table point (x, y) at height z over the table, jaws along `jaw_angle`.
     pub fn tool_pose(&self, x: f64, y: f64, z: f64, jaw_angle: f64) -> ToolPose {
+        self.tool_pose_at_yaw(x, y, z, tool_yaw(jaw_angle))
+    }
+
+    /// A tool pose above table point (x, y) at height z, turned by the tool yaw `yaw` (not folded
+    /// into a half turn: a held rider must turn by exactly its planned turn).
+    fn tool_pose_at_yaw(&self, x: f64, y: f64, z: f64, yaw: f64) -> ToolPose {
         let position = self
             .calibration
             .to_base(x, y, z + self.config.heights.table);
-        let mut yaw = jaw_angle - std::f64::consts::FRAC_PI_2;
-        yaw = yaw.rem_euclid(std::f64::consts::PI);
-        if yaw > std::f64::consts::FRAC_PI_2 {
-            yaw -= std::f64::consts::PI;
-        }
         let orientation = self.calibration.rotation
             * Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
             * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
@@ -328,8 +340,17 @@ impl Translator {
         let travel = self.travel_height(scene).max(rider.base + height) + grip;
         let vertical = self.config.speeds.vertical;
         let (pick, release) = (&rider.pick.jaws, &rider.release);
+        // The release is the pick turned by the rider's turn, the short way round; a linear move
+        // turns the tool the short way too.
+        let pick_yaw = tool_yaw(pick.angle);
+        let release_yaw = pick_yaw + crate::geometry::wrap_angle(release.angle - pick.angle);
         let at = |jaws: &crate::grasp::JawPose, z| {
-            self.tool_pose(jaws.center.x, jaws.center.y, z, jaws.angle)
+            let yaw = if std::ptr::eq(jaws, pick) {
+                pick_yaw
+            } else {
+                release_yaw
+            };
+            self.tool_pose_at_yaw(jaws.center.x, jaws.center.y, z, yaw)
         };
         let opening = self.config.gripper.count_for_opening(pick.opening);
         vec![

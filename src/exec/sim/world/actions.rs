@@ -60,7 +60,8 @@ impl Stage {
     }
 
     /// Moves the palm by `offset` with a trapezoidal speed profile: `acceleration` up to `speed`
-    /// (or less on a short move), then down again, in short constant-speed pieces.
+    /// (or less on a short move), then down again. The palm's position follows the profile step by
+    /// step, so its speed changes by at most `acceleration × time_step` from one step to the next.
     pub fn carry(&mut self, offset: Vector, speed: f64, acceleration: f64) {
         let distance = offset.length();
         if distance == 0.0 {
@@ -68,21 +69,24 @@ impl Stage {
         }
         let top = speed.min((distance * acceleration).sqrt());
         let ramp = top / acceleration;
-        let pieces = (ramp / self.time_step / 4.0).ceil().max(1.0) as usize;
-        let direction = offset / distance;
-        let piece = |stage: &mut Self, k: usize| {
-            let v = top * (k as f64 + 0.5) / pieces as f64;
-            stage.travel(direction * (v * ramp / pieces as f64), v);
+        let cruise = (distance - top * ramp) / top;
+        let total = 2.0 * ramp + cruise;
+        let covered = |t: f64| {
+            if t < ramp {
+                0.5 * acceleration * t * t
+            } else if t < ramp + cruise {
+                0.5 * top * ramp + top * (t - ramp)
+            } else {
+                let left = (total - t).max(0.0);
+                distance - 0.5 * acceleration * left * left
+            }
         };
-        for k in 0..pieces {
-            piece(self, k);
-        }
-        let cruise = distance - top * ramp;
-        if cruise > 0.0 {
-            self.travel(direction * cruise, top);
-        }
-        for k in (0..pieces).rev() {
-            piece(self, k);
+        let steps = (total / self.time_step).ceil().max(1.0) as usize;
+        let (start, direction) = (self.palm_translation, offset / distance);
+        for k in 1..=steps {
+            let t = (k as f64 * self.time_step).min(total);
+            self.move_palm_to(start + direction * covered(t));
+            self.step();
         }
     }
 
