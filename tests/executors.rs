@@ -1,15 +1,16 @@
 //! One suite over every executor, the same checks for each: the plans applied exactly, the
 //! simulator, and the UR5 executor on loopback fakes of its controller and gripper (its
-//! observations replayed from an ideal run). Acting before a table is given is misuse; a whole run
-//! passes the independent verifier and is recorded under the executor's name.
+//! observations replayed from an ideal run). Acting (a grasp, putting a rider down) before a table
+//! is given is misuse; a whole run passes the independent verifier and is recorded under the
+//! executor's name.
 
 use pushmog::error::Error;
 use pushmog::exec::ur5::Ur5;
 use pushmog::exec::ur5::fake::{ControllerFaults, GripperFaults};
 use pushmog::exec::{Executor, Sim, SimSettings};
-use pushmog::plan::{RunStatus, verify};
+use pushmog::plan::{Rider, RunStatus, verify};
 use pushmog::policy::Policy;
-use pushmog::scene::Scene;
+use pushmog::scene::{ObjectId, Pose, Scene};
 
 use crate::support::stray_grasp;
 use crate::ur5::{config_for, fakes, live_runner, replayed_observations};
@@ -18,6 +19,19 @@ use crate::ur5::{config_for, fakes, live_runner, replayed_observations};
 fn conforms(executor: &mut dyn Executor, name: &str, policy: &Policy, scene: &Scene) -> RunStatus {
     assert_eq!(executor.name(), name);
     let early = executor.grasp(&stray_grasp());
+    assert!(
+        matches!(early, Err(Error::Misuse { .. })),
+        "{name}: {early:?}"
+    );
+    let rider = Rider {
+        object: ObjectId(0),
+        pick: stray_grasp(),
+        place: Pose::new(0.2, 0.2, 0.0),
+        release: stray_grasp().jaws,
+        base: 0.03,
+        on: vec![ObjectId(1)],
+    };
+    let early = executor.place(&rider);
     assert!(
         matches!(early, Err(Error::Misuse { .. })),
         "{name}: {early:?}"

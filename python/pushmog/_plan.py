@@ -147,6 +147,15 @@ class TripPlan:
         return [s if isinstance(s, str) else next(iter(s)) for s in self._trip.get("push_statuses", [])]
 
     @property
+    def riders(self) -> list:
+        """Objects this trip picks by themselves after its pushes and puts down on the top of the
+        row its grasp takes (policy setting ``riders``), in order, as dicts: ``object``, ``pick`` (a
+        grasp dict), ``place`` (the pose it is put down at), ``release`` (the jaws letting it go),
+        ``base`` (the row's top height, metres) and ``on`` (the objects it rests on). Empty without
+        riders."""
+        return json.loads(json.dumps(self._trip.get("riders", [])))
+
+    @property
     def ahead(self) -> list:
         """Objects this trip pushes into rows for later trips (``pricing.push_ahead``): after such
         pushes no look is made in the trip; the next trip's look shows the rows."""

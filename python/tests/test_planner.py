@@ -16,9 +16,10 @@ import pushmog
 
 def trip_fields(trip: dict) -> dict:
     """A run record's trip without what the executor reports (``judged``, ``ahead``,
-    ``ahead_rows`` and ``push_statuses`` only when the plan has them, as in plan files)."""
+    ``ahead_rows``, ``push_statuses`` and ``riders`` only when the plan has them, as in plan
+    files)."""
     keys = ("clustering", "cluster", "pushes", "skipped_pushes", "grasp", "judged", "ahead",
-            "ahead_rows", "push_statuses")
+            "ahead_rows", "push_statuses", "riders")
     return {k: trip[k] for k in keys if k in trip}
 
 
@@ -283,3 +284,18 @@ def test_a_trip_says_how_its_pushes_were_planned(scene, policy, allowed):
         assert trip is not None
         assert bool(trip.push_statuses) == bool(trip.pushes)
         assert set(trip.push_statuses) <= allowed
+
+
+def test_riders_are_planned_when_the_setting_is_on(scene):
+    """With ``riders.enabled`` some trip puts a single object on its row; each rider rests on
+    objects the trip's grasp takes and is not one of them."""
+    planner = pushmog.Planner("push-mog-opt", {"riders": {"enabled": True}})
+    trips = [planner.plan_trip(scene, pushmog.TripContext(seed)) for seed in range(8)]
+    riding = [t for t in trips if t is not None and t.riders]
+    assert riding
+    for trip in riding:
+        for rider in trip.riders:
+            assert set(rider["on"]) <= set(trip.grasp.objects)
+            assert rider["object"] not in trip.grasp.objects
+    plain = pushmog.Planner("push-mog-opt")
+    assert all(t is None or not t.riders for t in (plain.plan_trip(scene, pushmog.TripContext(s)) for s in range(3)))

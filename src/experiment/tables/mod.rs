@@ -46,6 +46,10 @@ pub struct GroupSummary {
     pub failed_grasps: f64,
     /// Mean trips stopped by the gripper coming down on an object.
     pub landings: f64,
+    /// Riders put down on rows, over all runs.
+    pub riders_placed: usize,
+    /// Of those, riders their trip did not carry.
+    pub riders_lost: usize,
     /// Runs that cleared the table.
     pub cleared: usize,
     /// Mean robot time, seconds.
@@ -139,6 +143,8 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                 push_distance: mean(rows.iter().map(|r| r.push_distance)),
                 failed_grasps: mean(rows.iter().map(|r| r.failed_grasps as f64)),
                 landings: mean(rows.iter().map(|r| r.landings as f64)),
+                riders_placed: rows.iter().map(|r| r.riders_placed).sum(),
+                riders_lost: rows.iter().map(|r| r.riders_lost).sum(),
                 cleared: rows.iter().filter(|r| r.cleared).count(),
                 robot_seconds: mean(rows.iter().map(|r| r.robot_seconds)),
                 picks_per_hour: mean(picks.iter().copied()),
@@ -267,6 +273,13 @@ fn results_table(log: &Log) -> Table {
         Column::markdown("failed grasps", 2),
         Column::markdown("landings", 2),
         Column::markdown("cleared", 0),
+    ]);
+    // Riders only where some run placed one, so tables of logs without riders stay as they were.
+    let riders = groups.iter().any(|g| g.riders_placed > 0);
+    if riders {
+        columns.push(Column::markdown("riders lost / placed", 0));
+    }
+    columns.extend([
         Column::markdown("robot time (s)", 1).latex("Time (s)", 'r', 0),
         Column::markdown("picks per hour", 1).latex("Picks/h", 'r', 0),
         Column::markdown("picks per hour / sog's, paired", 3).latex("vs.\\ sog", 'r', 3),
@@ -288,6 +301,15 @@ fn results_table(log: &Log) -> Table {
                 Cell::Number(g.failed_grasps),
                 Cell::Number(g.landings),
                 Cell::Count(g.cleared, g.runs),
+            ]);
+            if riders {
+                cells.push(if g.riders_placed > 0 {
+                    Cell::Count(g.riders_lost, g.riders_placed)
+                } else {
+                    Cell::Missing
+                });
+            }
+            cells.extend([
                 Cell::Number(g.robot_seconds),
                 Cell::Interval(g.picks_per_hour, g.picks_per_hour_95),
                 interval(g.versus_sog),
