@@ -391,11 +391,15 @@ fn a_tiny_time_limit_still_returns_a_verified_clustering_no_worse_than_the_heuri
     if outcome.status == Status::Heuristic {
         // The limit ran out while the candidates were enumerated: the heuristic's clustering.
         assert_eq!(outcome.stats.counter("budget_exceeded"), Some(1.0));
+        assert!(matches!(
+            outcome.value.fallback,
+            Some(pushmog::cluster::Fallback::OverBudget { .. })
+        ));
         let heuristic = Hierarchical::new(HierarchicalSettings::default())
             .unwrap()
             .cluster(&scene)
             .unwrap();
-        assert_eq!(outcome.value, heuristic.value);
+        assert_eq!(outcome.value.clusters, heuristic.value.clusters);
         return;
     }
     let heuristic = outcome.stats.counter("heuristic_objective").unwrap();
@@ -614,7 +618,7 @@ fn the_verifier_names_every_pair_of_interleaved_clusters_and_only_those() {
     let ids = |k: &[u32]| k.iter().map(|&i| ObjectId(i)).collect::<Vec<_>>();
     let clustering = pushmog::cluster::Clustering {
         clusters: vec![ids(&[0, 1]), ids(&[2, 3]), ids(&[4, 5]), ids(&[6])],
-        status: None,
+        ..Default::default()
     };
     let found = verify_clustering(&scene, &clustering);
     let separability: Vec<&String> = found.iter().filter(|f| f.contains("separable")).collect();
@@ -623,4 +627,31 @@ fn the_verifier_names_every_pair_of_interleaved_clusters_and_only_those() {
         vec!["clusters 0 and 1 are not separable by a line"],
         "{found:?}"
     );
+}
+
+/// A model over its budget is not built: the answer is the heuristic's clustering, with no claim,
+/// and says why in its typed fallback, the budget named. Within the budget, a proven optimum
+/// carries no fallback.
+#[test]
+fn a_clustering_over_budget_says_why_it_is_the_heuristics() {
+    use pushmog::cluster::Fallback;
+    let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 1).unwrap();
+    let tight = Milp::new(
+        MilpSettings {
+            max_candidates: 10,
+            ..MilpSettings::default()
+        },
+        Problem::shared_default(),
+    )
+    .unwrap();
+    let outcome = tight.cluster(&scene).unwrap();
+    assert_eq!(outcome.status, Status::Heuristic);
+    let Some(Fallback::OverBudget { what }) = &outcome.value.fallback else {
+        panic!("{:?}", outcome.value.fallback);
+    };
+    assert!(what.contains("candidate"), "{what}");
+    let roomy = Milp::new(MilpSettings::default(), Problem::shared_default()).unwrap();
+    let proven = roomy.cluster(&scene).unwrap();
+    assert_eq!(proven.status, Status::Optimal);
+    assert_eq!(proven.value.fallback, None);
 }

@@ -45,6 +45,42 @@ pub struct Clustering {
     /// answer leaves this empty and gives its status in the outcome.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub status: Option<crate::outcome::Status>,
+    /// Set when the optimal clustering (the MILP) gave back the heuristic's clusters, in whole or
+    /// in part, and why; absent otherwise and for other clusterers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fallback: Option<Fallback>,
+}
+
+/// Why the MILP's clustering is, in whole or in part, the heuristic's (which it is seeded with).
+/// More reasons may come: match with a wildcard arm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Fallback {
+    /// The model was not built: it would have exceeded its budget of candidates or clash rows
+    /// (`what` says which). The heuristic's clustering throughout.
+    OverBudget {
+        /// Which budget, in words.
+        what: String,
+    },
+    /// The solver chose no clusters (it failed, or its limit ended it before a solution). The
+    /// heuristic's clustering throughout.
+    NoAnswer,
+    /// The solver's clusters do not cover every object exactly once. The heuristic's clustering
+    /// throughout.
+    NotAPartition,
+    /// Two of the solver's clusters cannot be separated by a line. The heuristic's clustering
+    /// throughout.
+    NotSeparable,
+    /// The solver's clustering costs more than the heuristic's (a limit ended it early). The
+    /// heuristic's clustering throughout.
+    DearerThanHeuristic,
+    /// Some of the independent parts the model was solved in chose nothing; those parts keep the
+    /// heuristic's clusters.
+    Parts {
+        /// How many parts.
+        count: usize,
+    },
 }
 
 impl Clustering {
@@ -56,6 +92,7 @@ impl Clustering {
                 .map(|c| c.iter().map(|&i| scene.objects()[i].id).collect())
                 .collect(),
             status: None,
+            fallback: None,
         }
     }
 

@@ -34,7 +34,8 @@ pub struct Trip {
     /// pushes (`scene` after all of them, or, when the trip looked again, the last look's scene
     /// after the pushes that follow it). `judged`, `ahead` and `ahead_rows` are the first plan's;
     /// `push_statuses` holds the first plan's, then one per look whose corrective pushes were made
-    /// (empty in plans written before statuses were recorded).
+    /// (empty in plans written before statuses were recorded); `riders` are the last plan's, put
+    /// down before the grasp.
     pub plan: TripPlan,
     /// New observations made during the trip, in order, each after some of its pushes: what follows
     /// a look (corrective pushes, the grasp) was planned on it. Empty when the whole trip was

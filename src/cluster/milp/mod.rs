@@ -36,7 +36,7 @@ use super::objective::{ClusterObjective, CostModel, centroid_diameter};
 use super::reuse::{self, ClusterMemory};
 use super::separability::separability_conflicts;
 use super::solved::Solved;
-use super::{Clusterer, Clustering};
+use super::{Clusterer, Clustering, Fallback};
 use super::{ROW_GAP, admits_row, split_unrowable};
 use crate::error::Result;
 use crate::outcome::{Abilities, Outcome, Stats, Status};
@@ -388,9 +388,24 @@ impl Clusterer for Milp {
             all.sort_unstable();
             all == (0..scene.len()).collect::<Vec<_>>()
         };
-        let usable = is_partition && separability_conflicts(scene, &picked).is_empty();
+        let separable = is_partition && separability_conflicts(scene, &picked).is_empty();
         let solver_cost = costs_model.clustering_cost(&picked);
-        let whole_fallback = !(usable && solver_cost <= heuristic_cost + 1e-9);
+        let fallback = if picked.is_empty() && !scene.is_empty() {
+            Some(Fallback::NoAnswer)
+        } else if !is_partition {
+            Some(Fallback::NotAPartition)
+        } else if !separable {
+            Some(Fallback::NotSeparable)
+        } else if solver_cost > heuristic_cost + 1e-9 {
+            Some(Fallback::DearerThanHeuristic)
+        } else if parts_fell_back > 0 {
+            Some(Fallback::Parts {
+                count: parts_fell_back,
+            })
+        } else {
+            None
+        };
+        let whole_fallback = !(separable && solver_cost <= heuristic_cost + 1e-9);
         let (clusters, objective, fell_back) = if whole_fallback {
             (heuristic_clusters, heuristic_cost, true)
         } else {
@@ -408,7 +423,10 @@ impl Clusterer for Milp {
             && !fell_back;
         memory
             .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
-        let clustering = Clustering::from_indices(scene, &clusters).normalised();
+        let clustering = Clustering {
+            fallback,
+            ..Clustering::from_indices(scene, &clusters).normalised()
+        };
         let mut counters = vec![
             ("candidates".to_string(), candidates.len() as f64),
             ("clash_rows".to_string(), clash_rows as f64),
@@ -447,8 +465,14 @@ impl Clusterer for Milp {
 /// its budget (`what` says which).
 fn gave_up(what: &str, heuristic: Clustering, started: Instant) -> Outcome<Clustering> {
     let clusters = heuristic.len() as f64;
+    let fallback = Some(Fallback::OverBudget {
+        what: what.to_string(),
+    });
     Outcome {
-        value: heuristic,
+        value: Clustering {
+            fallback,
+            ..heuristic
+        },
         status: Status::Heuristic,
         stats: Stats {
             seconds: started.elapsed().as_secs_f64(),

@@ -77,6 +77,9 @@ pub fn cluster(args: &ClusterArgs) -> Result<()> {
         println!("cluster {k:>3}: {}", ids.join(" "));
     }
     println!("\nstatus       {:?}", outcome.status);
+    if let Some(fallback) = &outcome.value.fallback {
+        println!("fallback     {fallback:?}");
+    }
     let stats = &outcome.stats;
     println!("clusters     {}", outcome.value.len());
     if let Some(objective) = stats.objective {
