@@ -93,6 +93,25 @@ pub struct TripPlan {
     pub riders: Vec<Rider>,
 }
 
+impl TripPlan {
+    /// A trip that makes `grasp` of `cluster` in `clustering` and nothing else: no pushes, no
+    /// riders.
+    pub fn grasping(clustering: Clustering, cluster: Option<usize>, grasp: Grasp) -> Self {
+        Self {
+            clustering,
+            cluster,
+            pushes: Vec::new(),
+            skipped_pushes: Vec::new(),
+            grasp,
+            judged: None,
+            ahead: Vec::new(),
+            ahead_rows: Vec::new(),
+            push_statuses: Vec::new(),
+            riders: Vec::new(),
+        }
+    }
+}
+
 /// An object picked by itself and put down on the top of a row just before the row's grasp, so
 /// that it travels to the bin on the row (`formulations/stacking.md`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

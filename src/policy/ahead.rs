@@ -72,16 +72,8 @@ impl Policy {
             return Ok(None);
         };
         let plain = |grasp: Grasp, skipped| TripPlan {
-            clustering: clustering.clone(),
-            cluster,
-            pushes: Vec::new(),
             skipped_pushes: skipped,
-            grasp,
-            judged: None,
-            ahead: Vec::new(),
-            ahead_rows: Vec::new(),
-            push_statuses: Vec::new(),
-            riders: Vec::new(),
+            ..TripPlan::grasping(clustering.clone(), cluster, grasp)
         };
         // Rows pushed before still wait for their grasps: the next rows are pushed together once
         // none waits.

@@ -187,25 +187,7 @@ impl<'a> Run<'a> {
             current = next;
             self.refuse_unless_verified(&record)?;
         }
-        // Riders are put on the row just before its grasp.
-        if record.fault.is_none() {
-            for (k, rider) in record.plan.riders.iter().enumerate() {
-                if let Some(landing) = executor.place(rider)? {
-                    record.fault = Some(Fault::Place {
-                        rider: k,
-                        object: landing.object,
-                    });
-                    break;
-                }
-            }
-        }
-        if record.fault.is_none() {
-            let result = executor.grasp(&record.plan.grasp)?;
-            record.fault = result.landing.map(|landing| Fault::Grasp {
-                object: landing.object,
-            });
-            record.carried = result.carried;
-        }
+        place_and_grasp(&mut record, executor)?;
         if record.carried.is_empty() {
             self.in_a_row += 1;
             self.context.record_failure(&record.plan.grasp);
@@ -344,6 +326,29 @@ impl<'a> Run<'a> {
         let trips = std::mem::take(&mut self.trips);
         (self.plan(trips), self.timing)
     }
+}
+
+/// The end of a trip not stopped before: its riders put on the row, then the grasp, with what it
+/// carried or the landing that stopped it.
+fn place_and_grasp(record: &mut Trip, executor: &mut dyn Executor) -> Result<()> {
+    if record.fault.is_some() {
+        return Ok(());
+    }
+    for (k, rider) in record.plan.riders.iter().enumerate() {
+        if let Some(landing) = executor.place(rider)? {
+            record.fault = Some(Fault::Place {
+                rider: k,
+                object: landing.object,
+            });
+            return Ok(());
+        }
+    }
+    let result = executor.grasp(&record.plan.grasp)?;
+    record.fault = result.landing.map(|landing| Fault::Grasp {
+        object: landing.object,
+    });
+    record.carried = result.carried;
+    Ok(())
 }
 
 /// Robot time of a run by the time model: every trip as planned (a trip stopped by a landing is

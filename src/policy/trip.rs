@@ -114,18 +114,7 @@ impl Policy {
                 .plan_request(&GraspRequest::new(observed, &[target]).avoiding(avoid))?;
             match outcome.value {
                 Some(grasp) => {
-                    return Ok(Ok(TripPlan {
-                        clustering: Clustering::default(),
-                        cluster: None,
-                        pushes: Vec::new(),
-                        skipped_pushes: Vec::new(),
-                        grasp,
-                        judged: None,
-                        ahead: Vec::new(),
-                        ahead_rows: Vec::new(),
-                        push_statuses: Vec::new(),
-                        riders: Vec::new(),
-                    }));
+                    return Ok(Ok(TripPlan::grasping(Clustering::default(), None, grasp)));
                 }
                 None if first_failure.is_none() => {
                     first_failure = Some(NoTrip::NoGraspOfObject {
