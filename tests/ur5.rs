@@ -8,7 +8,7 @@ use nalgebra::{Rotation3, Vector3};
 use pushmog::error::Error;
 use pushmog::exec::ur5::fake::{ControllerFaults, FakeController, FakeGripper, GripperFaults};
 use pushmog::exec::ur5::{
-    Action, Calibration, Correspondence, DryRun, Live, Observation, RobotConfig, StepRunner,
+    Action, Calibration, Correspondence, DryRun, Live, Observation, Phase, RobotConfig, StepRunner,
     Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
 };
 use pushmog::plan::Plan;
@@ -224,6 +224,33 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
                 &grasp_path(&trip.plan.grasp, gripper),
             );
             assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
+            // Each rider is put down turned as planned: the tool turns from its pick to where it
+            // lowers it by the rider's turn, the short way round.
+            let orientation = |phase: Phase| -> Vec<Rotation3<f64>> {
+                steps
+                    .iter()
+                    .filter(|s| s.phase == phase)
+                    .filter_map(|s| match &s.action {
+                        Action::Move { moves } => moves.last(),
+                        Action::Gripper { .. } => None,
+                    })
+                    .map(|m| Rotation3::from_scaled_axis(Vector3::from(m.to.rotation)))
+                    .collect()
+            };
+            let (picks, lowers) = (
+                orientation(Phase::DescendToPick),
+                orientation(Phase::LowerRider),
+            );
+            assert_eq!(picks.len(), trip.plan.riders.len());
+            for ((pick, lower), rider) in picks.iter().zip(&lowers).zip(&trip.plan.riders) {
+                let planned =
+                    pushmog::geometry::wrap_angle(rider.release.angle - rider.pick.jaws.angle);
+                let turned = (lower * pick.inverse()).angle();
+                assert!(
+                    (turned - planned.abs()).abs() < 1e-6,
+                    "{turned} against {planned}"
+                );
+            }
             jaws_left_out += 5 * trip.plan.pushes.len() + 9 * riders.len() + 7 - charged.len();
             blended += charged
                 .iter()

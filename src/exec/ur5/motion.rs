@@ -344,20 +344,15 @@ impl Translator {
         // turns the tool the short way too.
         let pick_yaw = tool_yaw(pick.angle);
         let release_yaw = pick_yaw + crate::geometry::wrap_angle(release.angle - pick.angle);
-        let at = |jaws: &crate::grasp::JawPose, z| {
-            let yaw = if std::ptr::eq(jaws, pick) {
-                pick_yaw
-            } else {
-                release_yaw
-            };
-            self.tool_pose_at_yaw(jaws.center.x, jaws.center.y, z, yaw)
-        };
+        let at_pick = |z| self.tool_pose_at_yaw(pick.center.x, pick.center.y, z, pick_yaw);
+        let at_release =
+            |z| self.tool_pose_at_yaw(release.center.x, release.center.y, z, release_yaw);
         let opening = self.config.gripper.count_for_opening(pick.opening);
         vec![
             Self::moves(
                 Phase::AbovePick,
                 format!("{name}: move above object {}", rider.object),
-                vec![self.travel(at(pick, travel))],
+                vec![self.travel(at_pick(travel))],
             ),
             self.gripper(
                 Phase::OpenForPick,
@@ -370,7 +365,7 @@ impl Translator {
             Self::moves(
                 Phase::DescendToPick,
                 format!("{name}: descend to half its height ({:.1} mm)", grip * 1e3),
-                vec![self.contact(at(pick, grip), vertical)],
+                vec![self.contact(at_pick(grip), vertical)],
             ),
             self.gripper(
                 Phase::ClosePick,
@@ -381,8 +376,8 @@ impl Translator {
                 Phase::CarryRider,
                 format!("{name}: rise and move over the row"),
                 vec![
-                    self.flowing(self.contact(at(pick, travel), vertical)),
-                    self.travel(at(release, travel)),
+                    self.flowing(self.contact(at_pick(travel), vertical)),
+                    self.travel(at_release(travel)),
                 ],
             ),
             Self::moves(
@@ -391,13 +386,13 @@ impl Translator {
                     "{name}: lower onto the row's top ({:.1} mm)",
                     rider.base * 1e3
                 ),
-                vec![self.contact(at(release, rider.base + 0.002 + grip), vertical)],
+                vec![self.contact(at_release(rider.base + 0.002 + grip), vertical)],
             ),
             self.gripper(Phase::Release, format!("{name}: open to let go"), opening),
             Self::moves(
                 Phase::RiseFromRider,
                 format!("{name}: rise"),
-                vec![self.flowing(self.contact(at(release, travel), vertical))],
+                vec![self.flowing(self.contact(at_release(travel), vertical))],
             ),
         ]
     }
