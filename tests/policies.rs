@@ -1069,15 +1069,8 @@ fn no_trip_says_why_typed() {
 /// than without riders.
 #[test]
 fn riders_ride_on_rows_and_save_trips() {
-    use pushmog::policy::Riders;
-    let with = PolicySettings {
-        riders: Riders {
-            enabled: true,
-            ..Riders::default()
-        },
-        ..PolicySettings::default()
-    };
-    let riders = Policy::new(PolicyKind::PushMogOpt, with).unwrap();
+    use crate::support::with_riders;
+    let riders = Policy::new(PolicyKind::PushMogOpt, with_riders()).unwrap();
     let plain = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
     let (mut trips_with, mut trips_without, mut placed) = (0, 0, 0);
     for seed in 1..=3 {
@@ -1105,16 +1098,9 @@ fn riders_ride_on_rows_and_save_trips() {
 /// where its jaws did not carry it.
 #[test]
 fn the_verifier_refuses_riders_that_cannot_ride() {
+    use crate::support::with_riders;
     use pushmog::plan::verify_trip;
-    use pushmog::policy::Riders;
-    let settings = PolicySettings {
-        riders: Riders {
-            enabled: true,
-            ..Riders::default()
-        },
-        ..PolicySettings::default()
-    };
-    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let policy = Policy::new(PolicyKind::PushMogOpt, with_riders()).unwrap();
     let plan = policy.run(&scene(1), &mut policy.ideal(), 1).unwrap();
     let trip = plan
         .trips

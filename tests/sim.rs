@@ -524,17 +524,10 @@ fn outlines_of_many_vertices_stand_still_beside_a_grasp() {
 #[test]
 fn riders_are_placed_in_the_simulator_and_the_plan_verifies() {
     use pushmog::plan::verify;
-    use pushmog::policy::{Policy, PolicyKind, PolicySettings, Riders};
+    use pushmog::policy::{Policy, PolicyKind};
     use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
     let scene = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
-    let settings = PolicySettings {
-        riders: Riders {
-            enabled: true,
-            ..Riders::default()
-        },
-        ..PolicySettings::default()
-    };
-    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let policy = Policy::new(PolicyKind::PushMogOpt, crate::support::with_riders()).unwrap();
     let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
     let plan = policy.run(&scene, &mut sim, 3).unwrap();
     assert!(verify(&plan).is_empty(), "{:?}", verify(&plan));

@@ -64,3 +64,10 @@ pub fn stray_grasp() -> pushmog::grasp::Grasp {
         margin: 0.01,
     }
 }
+
+/// Default policy settings with riders on (`formulations/stacking.md`).
+pub fn with_riders() -> pushmog::policy::PolicySettings {
+    let mut settings = pushmog::policy::PolicySettings::default();
+    settings.riders.enabled = true;
+    settings
+}

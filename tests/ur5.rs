@@ -12,10 +12,10 @@ use pushmog::exec::ur5::{
     Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
 };
 use pushmog::plan::Plan;
-use pushmog::policy::{Policy, PolicyKind, PolicySettings, grasp_path, push_paths};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings, grasp_path, push_paths, rider_paths};
 use pushmog::random::SeededRng;
 use pushmog::scene::SceneSpec;
-use pushmog::time_model::{Command, RiderPath, TimeModel};
+use pushmog::time_model::{Command, TimeModel};
 
 use crate::support::{fixture, pushmog, scratch};
 
@@ -184,9 +184,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
         "a trip pushing two rows ahead or more"
     );
     // Riders: each put on its row by the place action's steps.
-    let mut with_riders = PolicySettings::default();
-    with_riders.riders.enabled = true;
-    let stacking = Policy::new(PolicyKind::PushMogOpt, with_riders).unwrap();
+    let stacking = Policy::new(PolicyKind::PushMogOpt, crate::support::with_riders()).unwrap();
     let riding = stacking.run(&scene, &mut stacking.ideal(), 4).unwrap();
     assert!(riding.riders_placed() > 0, "a trip with a rider");
     let mut jaws_left_out = 0;
@@ -208,15 +206,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
             for &after in &looks {
                 paths[after - 1].look_after = true;
             }
-            let riders: Vec<RiderPath> = trip
-                .plan
-                .riders
-                .iter()
-                .map(|r| RiderPath {
-                    pick: grasp_path(&r.pick, gripper),
-                    release: r.release.center,
-                })
-                .collect();
+            let riders = rider_paths(&trip.plan.riders, gripper);
             let charged = model.trip_commands_with_riders(
                 gripper,
                 &paths,

@@ -393,7 +393,7 @@ pub use crate::plan::TripPlan;
 pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
 pub use no_trip::{NoTrip, TripAnswer};
-pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths};
+pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths, rider_paths};
 pub use riders::Riders;
 pub use run::{Run, RunTiming, run_seconds};
 pub use settings::{LoopSettings, PolicySettings};

@@ -24,9 +24,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::grasp::Grasp;
+use crate::plan::Rider;
 use crate::push::Push;
 use crate::scene::Gripper;
-use crate::time_model::{GraspPath, PushPath, TimeModel};
+use crate::time_model::{GraspPath, PushPath, RiderPath, TimeModel};
 
 /// What a policy's decisions to push aim at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -224,6 +225,17 @@ pub fn grasp_path(grasp: &Grasp, gripper: &Gripper) -> GraspPath {
         opening: grasp.jaws.opening,
         closed: (grasp.width + gripper.plate_thickness).min(grasp.jaws.opening),
     }
+}
+
+/// The time model's view of riders: each one's pick, and where the jaws let it go.
+pub fn rider_paths(riders: &[Rider], gripper: &Gripper) -> Vec<RiderPath> {
+    riders
+        .iter()
+        .map(|rider| RiderPath {
+            pick: grasp_path(&rider.pick, gripper),
+            release: rider.release.center,
+        })
+        .collect()
 }
 
 #[cfg(test)]

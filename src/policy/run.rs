@@ -16,7 +16,6 @@ use crate::error::Result;
 use crate::exec::Executor;
 use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, SharedScene, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
-use crate::time_model::RiderPath;
 
 /// Wall-clock planning times of one run, seconds.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -368,19 +367,10 @@ pub fn run_seconds(model: &TimeModel, gripper: &Gripper, trips: &[Trip], failed:
                     push.look_after = true;
                 }
             }
-            let riders: Vec<RiderPath> = trip
-                .plan
-                .riders
-                .iter()
-                .map(|rider| RiderPath {
-                    pick: super::grasp_path(&rider.pick, gripper),
-                    release: rider.release.center,
-                })
-                .collect();
             model.trip_seconds_with_riders(
                 gripper,
                 &pushes,
-                &riders,
+                &super::rider_paths(&trip.plan.riders, gripper),
                 &super::grasp_path(&trip.plan.grasp, gripper),
             )
         })

@@ -128,9 +128,8 @@ impl Policy {
                 break;
             }
         }
-        Ok(Err(
-            first_failure.expect("at least one graspable object was tried")
-        ))
+        // At least one graspable object was tried, so a failure was recorded.
+        Ok(Err(first_failure.unwrap_or(NoTrip::NothingFitsTheJaws)))
     }
 
     /// A draft for a chosen cluster. With pushes, the cluster is pushed only when the table predicted

@@ -20,6 +20,9 @@ pub use grasp_model::{GraspModel, Mechanics};
 use crate::error::{Error, Result};
 use crate::time_model::TimeModel;
 
+/// Standard gravity, m/s²: the one value every stage weighs with.
+pub const GRAVITY: f64 = 9.81;
+
 /// Pushes shorter than this are not made by default, metres: objects already within 3 mm of their
 /// targets are held where they are (`formulations/pushing.md`, the SOCP's rule 7).
 pub const DEFAULT_MIN_PUSH: f64 = 0.003;

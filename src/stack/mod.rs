@@ -30,8 +30,7 @@ pub use placement::{
 };
 pub use support::{Row, Support};
 
-/// Standard gravity, m/s².
-pub const GRAVITY: f64 = 9.81;
+pub use crate::problem::GRAVITY;
 
 /// The tipping bound: how far a uniform prism of `height` must keep its centroid from the edge of
 /// its support so that a horizontal acceleration `acceleration` does not tip it, metres:

@@ -25,6 +25,8 @@
 //!   interpenetrating objects).
 
 mod base;
+mod observe;
+mod place;
 mod prism;
 #[cfg(test)]
 mod ride_check;
@@ -32,24 +34,32 @@ mod rollout;
 mod settings;
 mod world;
 
+use nalgebra::Point2;
 use rapier3d_f64::math::{Rotation, Vector};
 
 use self::prism::Prism;
 use self::world::{Stage, StageSettings};
-use super::{Executor, GraspResult, Landing, RIDER_LEFT};
+use super::{Executor, GraspResult, Landing};
 use crate::error::{Error, Result};
-use crate::geometry::overlap;
-use crate::grasp::Grasp;
+use crate::grasp::{Grasp, JawPose};
 use crate::plan::Rider;
 use crate::push::Push;
 use crate::random::SeededRng;
-use crate::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
+use crate::scene::{Gripper, ObjectId, Pose, Scene, Workspace};
 
 pub use rollout::Rollout;
 
 /// A rider whose base is this high above the table still stands on something, metres.
 const RIDING: f64 = 0.005;
 pub use settings::{FingerDrive, SimSettings};
+
+/// Where an action's stage was set: the jaws' centre and the end of its path, with actuation
+/// noise, and the top of what stands within reach of that path, metres.
+struct Lowered {
+    centre: (f64, f64),
+    end: (f64, f64),
+    top: f64,
+}
 
 /// What [`Sim::close_and_release`] saw once the jaws had closed.
 #[derive(Clone, Debug, PartialEq)]
@@ -154,11 +164,29 @@ impl Sim {
     /// The grasp's first half: open jaws lowered over the grasp (with actuation noise) and closed until
     /// they stop; `Err` when the descent came down on an object (the action is then abandoned).
     fn lower_and_close(&mut self, grasp: &Grasp) -> std::result::Result<Stage, Landing> {
+        let tip = self.settings.grasp_height;
+        self.lower_and_close_at(&grasp.jaws, None, Self::tallest, tip)
+            .map(|(stage, _)| stage)
+    }
+
+    /// Open jaws lowered over `jaws` (with actuation noise) until the fingertips are `tip` above the
+    /// table, then closed until they stop, on a stage of the prisms within reach of the path from
+    /// the jaws to `end` (with the same noise; `None`: the jaws alone). The jaws come down from 5 mm
+    /// above `top` of those prisms. `Err` when the descent came down on an object (the action is
+    /// then abandoned).
+    fn lower_and_close_at(
+        &mut self,
+        jaws: &JawPose,
+        end: Option<Point2<f64>>,
+        top: fn(&Self, &[usize]) -> f64,
+        tip: f64,
+    ) -> std::result::Result<(Stage, Lowered), Landing> {
         let (ex, ey, eyaw) = self.actuation();
-        let jaws = &grasp.jaws;
         let centre = (jaws.center.x + ex, jaws.center.y + ey);
-        let members = self.near(centre, centre);
-        let above = self.tallest(&members) + 0.005;
+        let end = end.map_or(centre, |p| (p.x + ex, p.y + ey));
+        let members = self.near(centre, end);
+        let top = top(self, &members);
+        let above = top + 0.005;
         let s = &self.settings;
         let mut stage = Stage::new(
             &self.prisms,
@@ -170,12 +198,12 @@ impl Sim {
             jaws.angle + eyaw,
             jaws.opening,
         );
-        if let Some(index) = stage.descend(above - s.grasp_height, s.vertical_speed) {
+        if let Some(index) = stage.descend(above - tip, s.vertical_speed) {
             return Err(self.abandon(stage, above, index));
         }
         let timeout = jaws.opening / s.jaw_speed + 0.5;
         stage.close(s.jaw_speed, s.grip_force, timeout);
-        Ok(stage)
+        Ok((stage, Lowered { centre, end, top }))
     }
 
     /// Lowers the open jaws as for `grasp`, closes them, notes where every object within reach is,
@@ -354,10 +382,11 @@ impl Executor for Sim {
         // With riders aboard, the row goes sideways toward the bin at the arm's acceleration,
         // which is what may tip or slide a rider.
         let centre = (grasp.jaws.center.x, grasp.jaws.center.y);
-        let aboard = self
-            .near(centre, centre)
-            .iter()
-            .any(|&i| self.placed.contains(&self.prisms[i].id));
+        let aboard = !self.placed.is_empty()
+            && self
+                .near(centre, centre)
+                .iter()
+                .any(|&i| self.placed.contains(&self.prisms[i].id));
         if aboard && s.carry > 0.0 {
             let along = grasp.jaws.angle + std::f64::consts::FRAC_PI_2;
             let offset = Vector::new(along.cos(), along.sin(), 0.0) * s.carry;
@@ -388,194 +417,17 @@ impl Executor for Sim {
         Ok(GraspResult::carried(carried))
     }
 
-    /// The rider's pick is its single-object grasp, closed with the fingertips at half its height
-    /// (not `grasp_height`) so that they stay clear of the row's top when it is put down. The jaws
-    /// lift it 1 cm clear of everything within reach of the path, carry it over the release (turning
-    /// with it), lower it until its base is 2 mm above the row's top, open to the pick's opening,
-    /// and rise. Actuation noise offsets the pick and the release alike.
+    /// As [`Sim::put_down`] (`place.rs`).
     fn place(&mut self, rider: &Rider) -> Result<Option<Landing>> {
-        self.table()?;
-        let s = self.settings.clone();
-        let Some(index) = self.prisms.iter().position(|p| p.id == rider.object) else {
-            return Err(Error::misuse(
-                "simulator",
-                format!("no object {} on the table to place", rider.object),
-            ));
-        };
-        let (ex, ey, eyaw) = self.actuation();
-        let jaws = &rider.pick.jaws;
-        let centre = (jaws.center.x + ex, jaws.center.y + ey);
-        let release = (rider.release.center.x + ex, rider.release.center.y + ey);
-        let members = self.near(centre, release);
-        let top = self.top_of(&members);
-        let above = top + 0.005;
-        let grip = (0.5 * self.prisms[index].height).max(s.grasp_height);
-        let mut stage = Stage::new(
-            &self.prisms,
-            &members,
-            &self.gripper,
-            &self.stage_settings(),
-            centre,
-            above,
-            jaws.angle + eyaw,
-            jaws.opening,
-        );
-        if let Some(landed) = stage.descend(above - grip, s.vertical_speed) {
-            return Ok(Some(self.abandon(stage, above, landed)));
-        }
-        let timeout = jaws.opening / s.jaw_speed + 0.5;
-        stage.close(s.jaw_speed, s.grip_force, timeout);
-        stage.wait(0.05);
-        // Base 1 cm above everything in reach.
-        let lift = top + 0.01;
-        stage.travel(Vector::new(0.0, 0.0, lift), s.vertical_speed);
-        stage.travel_turning(
-            Vector::new(release.0 - centre.0, release.1 - centre.1, 0.0),
-            crate::geometry::wrap_angle(rider.release.angle - jaws.angle),
-            s.vertical_speed,
-        );
-        stage.travel(
-            Vector::new(0.0, 0.0, -(lift - rider.base - 0.002)),
-            s.vertical_speed,
-        );
-        stage.open(jaws.opening, s.jaw_speed);
-        stage.wait(0.1);
-        // Up until the fingertips are 1 cm above the rider's top.
-        let clear = rider.base + self.prisms[index].height + 0.01;
-        let rise = (clear - stage.tip_height()).max(0.0);
-        stage.travel(Vector::new(0.0, 0.0, rise), s.vertical_speed);
-        stage.wait(0.05);
-        stage.write_back(&mut self.prisms);
-        self.placed.push(rider.object);
-        Ok(None)
+        self.put_down(rider)
     }
 
+    /// As [`Sim::observation`] (`observe.rs`).
     fn observe(&mut self) -> Result<Scene> {
-        let workspace = self.table()?.clone();
-        let s = &self.settings;
-        let mut objects: Vec<Object> = Vec::new();
-        let mut truth: Vec<Object> = Vec::new();
-        self.lost.clear();
-        for prism in &self.prisms {
-            // A rider still standing on something: the camera sees it on top, not on the table.
-            if self.placed.contains(&prism.id)
-                && prism.tilt() <= s.topple_angle
-                && prism.translation.z > RIDING
-            {
-                self.lost.push((prism.id, RIDER_LEFT));
-                continue;
-            }
-            // Upright, it is its own prism; toppled flat on a face, the camera sees a new one.
-            let (polygon, pose, height) = if prism.tilt() <= s.topple_angle {
-                (prism.polygon.clone(), prism.planar_pose(), prism.height)
-            } else if let Some(seen) = prism.lying_flat() {
-                seen
-            } else {
-                self.lost.push((prism.id, "toppled"));
-                continue;
-            };
-            let outside = polygon
-                .transformed(&pose.isometry())
-                .vertices()
-                .iter()
-                .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
-            if outside {
-                self.lost.push((prism.id, "outside the workspace"));
-                continue;
-            }
-            let object = Object {
-                id: prism.id,
-                name: prism.name.clone(),
-                polygon,
-                pose,
-                height,
-                mass: Some(prism.mass),
-            };
-            truth.push(object.clone());
-            let noisy = Pose::new(
-                pose.x + s.perception_position * self.rng.normal(),
-                pose.y + s.perception_position * self.rng.normal(),
-                pose.yaw + s.perception_yaw * self.rng.normal(),
-            );
-            objects.push(Object {
-                pose: noisy,
-                ..object
-            });
-        }
-        // Undo noise that made outlines overlap each other or leave the workspace; physics may also
-        // leave contacts a fraction of a millimetre deep, which a camera would not report either.
-        for k in 0..objects.len() {
-            let outline = objects[k].world_polygon();
-            let clashes = objects[..k].iter().any(|o| {
-                overlap(
-                    &o.world_polygon(),
-                    &outline,
-                    crate::scene::OVERLAP_TOLERANCE,
-                )
-            }) || outline
-                .vertices()
-                .iter()
-                .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
-            if clashes {
-                objects[k].pose = truth[k].pose;
-            }
-        }
-        separate(&mut objects, &workspace);
-        // What still overlaps after that rests on another object (a toppled object lying across a
-        // neighbour): the camera cannot give it a place on the table, so it is left out.
-        let mut kept: Vec<Object> = Vec::with_capacity(objects.len());
-        for object in objects {
-            let outline = object.world_polygon();
-            let on_another = kept.iter().any(|o| {
-                overlap(
-                    &o.world_polygon(),
-                    &outline,
-                    crate::scene::OVERLAP_TOLERANCE,
-                )
-            });
-            if on_another {
-                self.lost.push((object.id, "lying on another object"));
-            } else {
-                kept.push(object);
-            }
-        }
-        Scene::from_parts(workspace, self.gripper.clone(), kept)
+        self.observation()
     }
 
     fn lost(&self) -> Vec<(ObjectId, &'static str)> {
         self.lost.clone()
-    }
-}
-
-/// Pushes apart observed outlines that still interpenetrate (physics contacts), each pair along the
-/// axis of largest separation, a little past touching; a bounded number of passes.
-fn separate(objects: &mut [Object], workspace: &Workspace) {
-    for _ in 0..20 {
-        let mut moved = false;
-        for a in 0..objects.len() {
-            for b in a + 1..objects.len() {
-                let (pa, pb) = (objects[a].world_polygon(), objects[b].world_polygon());
-                let (normal, separation) = crate::geometry::max_separation(&pa, &pb);
-                if separation < -crate::scene::OVERLAP_TOLERANCE / 2.0 {
-                    let shift = normal * (-separation / 2.0 + 1e-6);
-                    objects[a].pose.x -= shift.x;
-                    objects[a].pose.y -= shift.y;
-                    objects[b].pose.x += shift.x;
-                    objects[b].pose.y += shift.y;
-                    moved = true;
-                }
-            }
-        }
-        // Keep everything inside after the shifts.
-        for object in objects.iter_mut() {
-            let (lo, hi) = object.world_polygon().bounding_box();
-            let dx = (workspace.min[0] - lo.x).max(0.0) - (hi.x - workspace.max[0]).max(0.0);
-            let dy = (workspace.min[1] - lo.y).max(0.0) - (hi.y - workspace.max[1]).max(0.0);
-            object.pose.x += dx;
-            object.pose.y += dy;
-        }
-        if !moved {
-            return;
-        }
     }
 }

@@ -32,8 +32,7 @@ use crate::scene::Gripper;
 use super::equilibrium::{Touch, balanced};
 use super::jaws::JawPose;
 
-/// Standard gravity, m/s².
-const GRAVITY: f64 = 9.81;
+use crate::problem::GRAVITY;
 /// Time step, seconds (the plates move 0.05 mm per step at 0.05 m/s; 0.5 ms gave the same verdicts
 /// on the replayed grasps, 2 ms lost some).
 const TIME_STEP: f64 = 1e-3;

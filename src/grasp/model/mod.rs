@@ -44,8 +44,7 @@ use row::{Row, form_row};
 /// Slides equal to within this (metres) are a tie, won by the object placed last.
 const SLIDE_TIE: f64 = 1e-9;
 
-/// Standard gravity, m/s².
-const GRAVITY: f64 = 9.81;
+use crate::problem::GRAVITY;
 
 /// Objects this far beyond the plates' reach still take part in a planar closing (they may be
 /// pushed by what the jaws push), metres.
