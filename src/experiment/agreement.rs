@@ -11,10 +11,9 @@
 //! that catch two or more objects without a plate on any — is replayed too: physics carrying all
 //! they catch is a *false refusal*.
 
-use std::fmt::Write as _;
-
 use rayon::prelude::*;
 
+use super::tables::table::{Cell, Column, Table};
 use crate::error::Result;
 use crate::exec::{Executor, Sim, SimSettings};
 use crate::grasp::{Grasp, centre_line_offset};
@@ -198,83 +197,129 @@ fn rate(held: usize, of: usize) -> String {
 /// The agreement tables in Markdown: planned grasps by predicted object count against what physics
 /// carried, without and with noise; false holds and false refusals; hold rate by centre-line offset.
 pub fn agreement_markdown(replays: &[Replay], title: &str) -> String {
-    let mut out = format!("{title}\n\n");
-    let planned = |noisy: bool| {
-        replays
-            .iter()
-            .filter(move |r| !r.refused && r.noisy == noisy)
-    };
-    let _ = writeln!(
-        out,
-        "| predicted objects | noise | grasps | all carried | some carried | none carried | landings |"
-    );
-    let _ = writeln!(out, "|---:|---|---:|---:|---:|---:|---:|");
+    let tables = [
+        by_count_table(replays),
+        false_answers_table(replays),
+        by_offset_table(replays),
+    ];
+    let written: Vec<String> = tables.iter().map(Table::markdown).collect();
+    format!("{title}\n\n{}", written.join("\n"))
+}
+
+/// The planned grasps that were not refused candidates, without or with noise.
+fn planned(replays: &[Replay], noisy: bool) -> impl Iterator<Item = &Replay> + '_ {
+    replays
+        .iter()
+        .filter(move |r| !r.refused && r.noisy == noisy)
+}
+
+fn noise(noisy: bool) -> Cell {
+    Cell::Text(if noisy { "yes" } else { "no" }.to_string())
+}
+
+/// Planned grasps by predicted object count, without and with noise, against what was carried.
+fn by_count_table(replays: &[Replay]) -> Table {
+    let mut rows = Vec::new();
     let most = replays.iter().map(|r| r.predicted).max().unwrap_or(0);
     for k in 1..=most {
         for noisy in [false, true] {
-            let group: Vec<&Replay> = planned(noisy).filter(|r| r.predicted == k).collect();
+            let group: Vec<&Replay> = planned(replays, noisy)
+                .filter(|r| r.predicted == k)
+                .collect();
             if group.is_empty() {
                 continue;
             }
             let all = group.iter().filter(|r| r.held()).count();
             let none = group.iter().filter(|r| r.carried_predicted == 0).count();
-            let _ = writeln!(
-                out,
-                "| {k} | {} | {} | {} | {} | {} | {} |",
-                if noisy { "yes" } else { "no" },
-                group.len(),
-                rate(all, group.len()),
-                group.len() - all - none,
-                none,
-                group.iter().filter(|r| r.landed).count()
-            );
+            let landed = group.iter().filter(|r| r.landed).count();
+            rows.push(vec![
+                Cell::Number(k as f64),
+                noise(noisy),
+                Cell::Number(group.len() as f64),
+                Cell::Text(rate(all, group.len())),
+                Cell::Number((group.len() - all - none) as f64),
+                Cell::Number(none as f64),
+                Cell::Number(landed as f64),
+            ]);
         }
     }
-    let _ = writeln!(out);
-    let _ = writeln!(
-        out,
-        "| noise | multi-object grasps held | false holds | refused candidates replayed | false refusals |"
-    );
-    let _ = writeln!(out, "|---|---:|---:|---:|---:|");
-    for noisy in [false, true] {
-        let multi: Vec<&Replay> = planned(noisy).filter(|r| r.predicted >= 2).collect();
-        let held = multi.iter().filter(|r| r.held()).count();
-        let refused: Vec<&Replay> = replays
-            .iter()
-            .filter(|r| r.refused && r.noisy == noisy)
-            .collect();
-        let false_refusals = refused.iter().filter(|r| r.held()).count();
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {} | {} |",
-            if noisy { "yes" } else { "no" },
-            rate(held, multi.len()),
-            rate(multi.len() - held, multi.len()),
-            refused.len(),
-            rate(false_refusals, refused.len())
-        );
+    Table {
+        columns: vec![
+            Column::markdown("predicted objects", 0),
+            Column::markdown("noise", 0).left(),
+            Column::markdown("grasps", 0),
+            Column::markdown("all carried", 0),
+            Column::markdown("some carried", 0),
+            Column::markdown("none carried", 0),
+            Column::markdown("landings", 0),
+        ],
+        rows,
     }
-    let _ = writeln!(out);
-    let _ = writeln!(
-        out,
-        "| furthest centroid from the jaw centre line | held, no noise | held, with noise |"
-    );
-    let _ = writeln!(out, "|---|---:|---:|");
-    for (lo, hi) in OFFSET_BINS {
-        let cell = |noisy: bool| {
-            let group: Vec<&Replay> = planned(noisy)
-                .filter(|r| r.predicted >= 2 && r.offset >= lo && r.offset < hi)
+}
+
+/// Multi-object grasps held, false holds, and refused candidates that physics held.
+fn false_answers_table(replays: &[Replay]) -> Table {
+    let rows = [false, true]
+        .into_iter()
+        .map(|noisy| {
+            let multi: Vec<&Replay> = planned(replays, noisy)
+                .filter(|r| r.predicted >= 2)
                 .collect();
-            rate(group.iter().filter(|r| r.held()).count(), group.len())
-        };
-        let label = if hi.is_finite() {
-            format!("{:.0}–{:.0} mm", lo * 1e3, hi * 1e3)
-        } else {
-            format!("over {:.0} mm", lo * 1e3)
-        };
-        let _ = writeln!(out, "| {label} | {} | {} |", cell(false), cell(true));
+            let held = multi.iter().filter(|r| r.held()).count();
+            let refused: Vec<&Replay> = replays
+                .iter()
+                .filter(|r| r.refused && r.noisy == noisy)
+                .collect();
+            let false_refusals = refused.iter().filter(|r| r.held()).count();
+            vec![
+                noise(noisy),
+                Cell::Text(rate(held, multi.len())),
+                Cell::Text(rate(multi.len() - held, multi.len())),
+                Cell::Number(refused.len() as f64),
+                Cell::Text(rate(false_refusals, refused.len())),
+            ]
+        })
+        .collect();
+    Table {
+        columns: vec![
+            Column::markdown("noise", 0).left(),
+            Column::markdown("multi-object grasps held", 0),
+            Column::markdown("false holds", 0),
+            Column::markdown("refused candidates replayed", 0),
+            Column::markdown("false refusals", 0),
+        ],
+        rows,
     }
-    out
+}
+
+/// Hold rate of multi-object grasps by the furthest caught centroid's distance from the jaw centre
+/// line, without and with noise.
+fn by_offset_table(replays: &[Replay]) -> Table {
+    let rows = OFFSET_BINS
+        .iter()
+        .map(|&(lo, hi)| {
+            let cell = |noisy: bool| {
+                let group: Vec<&Replay> = planned(replays, noisy)
+                    .filter(|r| r.predicted >= 2 && r.offset >= lo && r.offset < hi)
+                    .collect();
+                Cell::Text(rate(group.iter().filter(|r| r.held()).count(), group.len()))
+            };
+            let label = if hi.is_finite() {
+                format!("{:.0}–{:.0} mm", lo * 1e3, hi * 1e3)
+            } else {
+                format!("over {:.0} mm", lo * 1e3)
+            };
+            vec![Cell::Text(label), cell(false), cell(true)]
+        })
+        .collect();
+    Table {
+        columns: vec![
+            Column::markdown("furthest centroid from the jaw centre line", 0).left(),
+            Column::markdown("held, no noise", 0),
+            Column::markdown("held, with noise", 0),
+        ],
+        rows,
+    }
 }
 
 /// Offset bins of the agreement report, metres.

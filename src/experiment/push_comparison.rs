@@ -14,6 +14,7 @@
 
 use std::fmt::Write as _;
 
+use super::tables::table::{Cell, Column, Table};
 use crate::cluster::{Clusterer, Hierarchical};
 use crate::error::Result;
 use crate::grasp::{GraspModel, GraspPlanner, JawPose, MultiObject, MultiObjectSettings};
@@ -181,21 +182,10 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     crate::stats::quantile(values, q).unwrap_or(f64::NAN)
 }
 
-/// The Markdown report of a comparison.
-pub fn push_comparison_markdown(rows: &[PushComparison]) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "| pushes | push distance per scene (m) | median | p90 | pushes per scene | row fits the jaws | held by the grasp model | failures | planning time per cluster (ms) |"
-    );
-    let _ = writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (name, pick) in [
-        (
-            "toward central (paper)",
-            (|r: &PushComparison| &r.central) as fn(&PushComparison) -> &PushFigures,
-        ),
-        ("socp", |r: &PushComparison| &r.socp),
-    ] {
+/// The table: per push planner, push distance per scene (mean ± standard deviation, median, p90),
+/// pushes per scene, rows that fit and that the grasp model holds, failures and planning time.
+fn push_table(rows: &[PushComparison]) -> Table {
+    let line = |name: &str, pick: fn(&PushComparison) -> &PushFigures| {
         let distances: Vec<f64> = rows.iter().map(|r| pick(r).distance).collect();
         let (mean, std) = mean_std(&distances);
         let clusters: usize = rows.iter().map(|r| pick(r).clusters).sum();
@@ -205,17 +195,44 @@ pub fn push_comparison_markdown(rows: &[PushComparison]) -> String {
         let pushes: f64 =
             rows.iter().map(|r| pick(r).pushes as f64).sum::<f64>() / rows.len().max(1) as f64;
         let seconds: f64 = rows.iter().map(|r| pick(r).seconds).sum();
-        let share = |k: usize| 100.0 * k as f64 / clusters.max(1) as f64;
-        let _ = writeln!(
-            out,
-            "| {name} | {mean:.3} ± {std:.3} | {:.3} | {:.3} | {pushes:.1} | {fits}/{clusters} ({:.1} %) | {held}/{clusters} ({:.1} %) | {failures} | {:.3} |",
-            quantile(&distances, 0.5),
-            quantile(&distances, 0.9),
+        let share = |k: usize| {
+            let percent = 100.0 * k as f64 / clusters.max(1) as f64;
+            Cell::Text(format!("{k}/{clusters} ({percent:.1} %)"))
+        };
+        vec![
+            Cell::Text(name.to_string()),
+            Cell::Interval(mean, std),
+            Cell::Number(quantile(&distances, 0.5)),
+            Cell::Number(quantile(&distances, 0.9)),
+            Cell::Number(pushes),
             share(fits),
             share(held),
-            1e3 * seconds / clusters.max(1) as f64,
-        );
+            Cell::Number(failures as f64),
+            Cell::Number(1e3 * seconds / clusters.max(1) as f64),
+        ]
+    };
+    Table {
+        columns: vec![
+            Column::markdown("pushes", 0).left(),
+            Column::markdown("push distance per scene (m)", 3).left(),
+            Column::markdown("median", 3),
+            Column::markdown("p90", 3),
+            Column::markdown("pushes per scene", 1),
+            Column::markdown("row fits the jaws", 0),
+            Column::markdown("held by the grasp model", 0),
+            Column::markdown("failures", 0),
+            Column::markdown("planning time per cluster (ms)", 3),
+        ],
+        rows: vec![
+            line("toward central (paper)", |r| &r.central),
+            line("socp", |r| &r.socp),
+        ],
     }
+}
+
+/// The Markdown report of a comparison: the table, then the paired findings.
+pub fn push_comparison_markdown(rows: &[PushComparison]) -> String {
+    let mut out = push_table(rows).markdown();
     let central: f64 = rows.iter().map(|r| r.central.distance).sum();
     let socp: f64 = rows.iter().map(|r| r.socp.distance).sum();
     let ratios: Vec<f64> = rows
