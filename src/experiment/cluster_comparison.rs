@@ -217,6 +217,43 @@ fn comparison_table(rows: &[SceneComparison]) -> Table {
     }
 }
 
+/// One row per scene, in Markdown: trips, predicted seconds, statuses and solve times of the
+/// hierarchical clustering as taken and of the MILP with each objective.
+pub fn per_scene_markdown(rows: &[SceneComparison]) -> String {
+    let table = Table {
+        columns: vec![
+            Column::markdown("seed", 0),
+            Column::markdown("hierarchical trips, as taken", 0),
+            Column::markdown("time (s)", 1),
+            Column::markdown("milp trips", 0),
+            Column::markdown("time (s)", 1),
+            Column::markdown("status", 0).left(),
+            Column::markdown("solve (ms)", 2),
+            Column::markdown("fewest trips", 0),
+            Column::markdown("status", 0).left(),
+            Column::markdown("solve (ms)", 2),
+        ],
+        rows: rows
+            .iter()
+            .map(|r| {
+                vec![
+                    Cell::Number(r.seed as f64),
+                    Cell::Number(r.hierarchical_trips as f64),
+                    Cell::Number(r.hierarchical_seconds),
+                    Cell::Number(r.milp_trips as f64),
+                    Cell::Number(r.milp_seconds),
+                    Cell::Text(format!("{:?}", r.milp_status)),
+                    Cell::Number(r.milp_solve * 1e3),
+                    Cell::Number(r.fewest_trips as f64),
+                    Cell::Text(format!("{:?}", r.fewest_status)),
+                    Cell::Number(r.fewest_solve * 1e3),
+                ]
+            })
+            .collect(),
+    };
+    table.markdown()
+}
+
 /// The Markdown report of a comparison: the table, then the paired findings.
 pub fn comparison_markdown(rows: &[SceneComparison]) -> String {
     let mut out = comparison_table(rows).markdown();

@@ -18,7 +18,9 @@ mod report;
 mod runner;
 pub mod tables;
 
-pub use cluster_comparison::{SceneComparison, compare_clustering, comparison_markdown};
+pub use cluster_comparison::{
+    SceneComparison, compare_clustering, comparison_markdown, per_scene_markdown,
+};
 pub use config::{
     ExecutorConfig, ExecutorKind, ExperimentConfig, MAX_RUNS, PolicyConfig, RunSpec, SceneConfig,
     SweepConfig,

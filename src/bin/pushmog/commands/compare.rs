@@ -6,7 +6,7 @@ use pushmog::error::Result;
 use pushmog::experiment::agreement::{
     AgreementSettings, agreement_markdown, agreement_svg, replay_grasps,
 };
-use pushmog::experiment::{compare_clustering as compare, comparison_markdown};
+use pushmog::experiment::{compare_clustering as compare, comparison_markdown, per_scene_markdown};
 use pushmog::json;
 use pushmog::policy::PolicySettings;
 use pushmog::problem::Problem;
@@ -83,25 +83,7 @@ pub fn compare_clustering(args: &CompareArgs) -> Result<()> {
     )?;
     print!("{}", comparison_markdown(&rows));
     if args.per_scene {
-        println!(
-            "\n| seed | hierarchical trips, as taken | time (s) | milp trips | time (s) | status | solve (ms) | fewest trips | status | solve (ms) |"
-        );
-        println!("|---:|---:|---:|---:|---:|---|---:|---:|---|---:|");
-        for r in &rows {
-            println!(
-                "| {} | {} | {:.1} | {} | {:.1} | {:?} | {:.2} | {} | {:?} | {:.2} |",
-                r.seed,
-                r.hierarchical_trips,
-                r.hierarchical_seconds,
-                r.milp_trips,
-                r.milp_seconds,
-                r.milp_status,
-                r.milp_solve * 1e3,
-                r.fewest_trips,
-                r.fewest_status,
-                r.fewest_solve * 1e3
-            );
-        }
+        print!("\n{}", per_scene_markdown(&rows));
     }
     for r in &rows {
         for v in &r.violations {
