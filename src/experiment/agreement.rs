@@ -363,15 +363,8 @@ pub fn agreement_svg(replays: &[Replay], title: &str) -> Result<String> {
             let points: Vec<(f64, f64)> = OFFSET_BINS
                 .iter()
                 .filter_map(|&(lo, hi)| {
-                    let group: Vec<&Replay> = replays
-                        .iter()
-                        .filter(|r| {
-                            !r.refused
-                                && r.noisy == noisy
-                                && r.predicted >= 2
-                                && r.offset >= lo
-                                && r.offset < hi
-                        })
+                    let group: Vec<&Replay> = planned(replays, noisy)
+                        .filter(|r| r.predicted >= 2 && r.offset >= lo && r.offset < hi)
                         .collect();
                     (!group.is_empty()).then(|| {
                         let held = group.iter().filter(|r| r.held()).count();
