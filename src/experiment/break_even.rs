@@ -11,6 +11,7 @@
 //! `formulations/picks-per-hour.md`.
 
 use std::fmt::Write as _;
+use std::ops::Range;
 
 use plotters::prelude::*;
 
@@ -120,21 +121,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
             "no policy has runs paired with sog's on the same scenes",
         ));
     }
-    let x_lo = all.iter().map(|p| p.distance).fold(f64::INFINITY, f64::min);
-    let x_hi = all
-        .iter()
-        .map(|p| p.distance)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let y_lo = all
-        .iter()
-        .map(|p| p.ratio - p.half_width)
-        .fold(1.0, f64::min);
-    let y_hi = all
-        .iter()
-        .map(|p| p.ratio + p.half_width)
-        .fold(1.0, f64::max);
-    let x_pad = ((x_hi - x_lo) * 0.05).max(1e-3);
-    let y_pad = ((y_hi - y_lo) * 0.1).max(0.01);
+    let (x, y) = axes(&all);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
@@ -147,10 +134,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
-            .build_cartesian_2d(
-                (x_lo - x_pad)..(x_hi + x_pad),
-                (y_lo - y_pad)..(y_hi + y_pad),
-            )
+            .build_cartesian_2d(x.clone(), y.clone())
             .map_err(plot_error)?;
         chart
             .configure_mesh()
@@ -160,7 +144,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
             .map_err(plot_error)?;
         chart
             .draw_series(DashedLineSeries::new(
-                vec![(x_lo - x_pad, 1.0), (x_hi + x_pad, 1.0)],
+                vec![(x.start, 1.0), (x.end, 1.0)],
                 6,
                 4,
                 BLACK.stroke_width(1),
@@ -174,11 +158,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
             let mut points = points.clone();
             points.sort_by(|a, b| a.distance.total_cmp(&b.distance));
             let meets = break_even(&points);
-            let label = match meets {
-                BreakEven::Throughout => format!("{policy} (≥ sog throughout)"),
-                BreakEven::At(d) => format!("{policy} (break-even {d:.2} m)"),
-                BreakEven::NotWithin => format!("{policy} (below sog at the far end)"),
-            };
+            let label = legend_label(policy, meets);
             chart
                 .draw_series(LineSeries::new(
                     points.iter().map(|p| (p.distance, p.ratio)),
@@ -211,7 +191,7 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
                     .map_err(plot_error)?;
                 chart
                     .draw_series(DashedLineSeries::new(
-                        vec![(d, y_lo - y_pad), (d, 1.0)],
+                        vec![(d, y.start), (d, 1.0)],
                         3,
                         3,
                         colour.stroke_width(1),
@@ -223,6 +203,38 @@ pub fn ratio_to_sog_svg(log: &Log) -> Result<String> {
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
+}
+
+/// The figure's axes: the distances and the ratios' intervals (and the ratio 1), padded.
+fn axes(all: &[RatioPoint]) -> (Range<f64>, Range<f64>) {
+    let x_lo = all.iter().map(|p| p.distance).fold(f64::INFINITY, f64::min);
+    let x_hi = all
+        .iter()
+        .map(|p| p.distance)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let y_lo = all
+        .iter()
+        .map(|p| p.ratio - p.half_width)
+        .fold(1.0, f64::min);
+    let y_hi = all
+        .iter()
+        .map(|p| p.ratio + p.half_width)
+        .fold(1.0, f64::max);
+    let x_pad = ((x_hi - x_lo) * 0.05).max(1e-3);
+    let y_pad = ((y_hi - y_lo) * 0.1).max(0.01);
+    (
+        (x_lo - x_pad)..(x_hi + x_pad),
+        (y_lo - y_pad)..(y_hi + y_pad),
+    )
+}
+
+/// A policy's line in the legend, with where it breaks even.
+fn legend_label(policy: &str, meets: BreakEven) -> String {
+    match meets {
+        BreakEven::Throughout => format!("{policy} (≥ sog throughout)"),
+        BreakEven::At(d) => format!("{policy} (break-even {d:.2} m)"),
+        BreakEven::NotWithin => format!("{policy} (below sog at the far end)"),
+    }
 }
 
 #[cfg(test)]
