@@ -80,7 +80,7 @@ impl Policy {
         if !context.ahead.is_empty() {
             return Ok(Some(plain(grasp, Vec::new())));
         }
-        let mut others: Vec<usize> = candidates
+        let others: Vec<usize> = candidates
             .iter()
             .copied()
             .filter(|&k| {
@@ -89,31 +89,7 @@ impl Policy {
             })
             .collect();
         // Nearest first: the arm travels from the pushes to the grasp.
-        let centre = |k: usize| {
-            let members = &clustering.clusters[k];
-            let sum: nalgebra::Vector2<f64> = members
-                .iter()
-                .filter_map(|&id| observed.index_of(id))
-                .map(|i| observed.centroid(i).coords)
-                .sum();
-            nalgebra::Point2::from(sum / members.len() as f64)
-        };
-        // A chain: the cluster nearest the grasp, then the one nearest that, and so on, so that
-        // rows pushed together and made from the chain's far end lie along a short path.
-        let mut chain = Vec::with_capacity(others.len());
-        let mut at = grasp.jaws.center;
-        while !others.is_empty() {
-            let (k, _) = others
-                .iter()
-                .enumerate()
-                .map(|(k, &c)| (k, nalgebra::distance(&centre(c), &at)))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .unwrap_or((0, 0.0));
-            let next = others.remove(k);
-            at = centre(next);
-            chain.push(next);
-        }
-        others = chain;
+        let others = nearest_chain(others, clustering, observed, grasp.jaws.center);
         // Rows pushed ahead that did not come out graspable are pushed again first.
         let rows = self.settings.pricing.ahead_rows;
         let tries: Vec<Vec<ObjectId>> = unformed
@@ -372,4 +348,38 @@ impl Policy {
         };
         Ok(again.filter(same))
     }
+}
+
+/// `clusters` (indices into `clustering`) as a chain: the one whose centroid is nearest `from`,
+/// then the one nearest that, and so on, so that rows pushed together and made from the chain's
+/// far end lie along a short path.
+fn nearest_chain(
+    mut clusters: Vec<usize>,
+    clustering: &Clustering,
+    observed: &Scene,
+    from: nalgebra::Point2<f64>,
+) -> Vec<usize> {
+    let centre = |k: usize| {
+        let members = &clustering.clusters[k];
+        let sum: nalgebra::Vector2<f64> = members
+            .iter()
+            .filter_map(|&id| observed.index_of(id))
+            .map(|i| observed.centroid(i).coords)
+            .sum();
+        nalgebra::Point2::from(sum / members.len() as f64)
+    };
+    let mut chain = Vec::with_capacity(clusters.len());
+    let mut at = from;
+    while !clusters.is_empty() {
+        let (k, _) = clusters
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| (k, nalgebra::distance(&centre(c), &at)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, 0.0));
+        let next = clusters.remove(k);
+        at = centre(next);
+        chain.push(next);
+    }
+    chain
 }
