@@ -90,17 +90,7 @@ impl Policy {
             .filter_map(|&id| predicted.index_of(id))
             .collect();
         let jaws = &trip.grasp.jaws;
-        let row = Row {
-            outlines: members
-                .iter()
-                .map(|&i| predicted.world_polygon(i).clone())
-                .collect(),
-            heights: members
-                .iter()
-                .map(|&i| predicted.objects()[i].height)
-                .collect(),
-            axis: Vector2::new(jaws.angle.cos(), jaws.angle.sin()),
-        };
+        let row = row_of(predicted, &members, jaws);
         let model = self.problem.grasp_model();
         let row_masses: Vec<f64> = members
             .iter()
@@ -178,6 +168,19 @@ impl Policy {
             }]);
         }
         Ok(Vec::new())
+    }
+}
+
+/// The row that `jaws` close on: the outlines and heights of `members` (indices in `scene`) and the
+/// closing axis.
+fn row_of(scene: &Scene, members: &[usize], jaws: &JawPose) -> Row {
+    Row {
+        outlines: members
+            .iter()
+            .map(|&i| scene.world_polygon(i).clone())
+            .collect(),
+        heights: members.iter().map(|&i| scene.objects()[i].height).collect(),
+        axis: Vector2::new(jaws.angle.cos(), jaws.angle.sin()),
     }
 }
 
