@@ -1,7 +1,7 @@
 //! A first physics check of riders (`formulations/stacking.md`): a rider placed where
 //! `stack::place_rider` puts it, on a pushed pair, goes with the pair through the grasp, the lift
-//! and a carry at the arm's acceleration. The simulator has no place action yet: the rider starts
-//! at rest on the row's top, as a place action would leave it.
+//! and a carry at the arm's acceleration. The rider starts at rest on the row's top, as the place
+//! action (`place.rs`) leaves it, so that the check judges the ride alone.
 
 use rapier3d_f64::math::{Rotation, Vector};
 
