@@ -14,8 +14,11 @@
 //!   closing simulation (`manifold.rs`).
 //! - [`Discs`]: bounding discs of many polygons, sorted along x, for the question "which objects can
 //!   reach this point" in `O(log N + k)` instead of a scan of every object.
+//! - [`intersection`], [`clip`]: convex polygons clipped by half-planes and by each other
+//!   (`clip.rs`), and [`intersection_over_union`].
 //! - [`simplify`]: a detailed outline reduced to few vertices, moving it by at most a stated tolerance.
 
+mod clip;
 mod discs;
 mod grasp_diameter;
 mod manifold;
@@ -25,6 +28,7 @@ mod sat;
 mod separation;
 mod simplify;
 
+pub use clip::{clip, half_planes, intersection, intersection_over_union, loop_area, tidy_polygon};
 pub use discs::Discs;
 
 /// `angle` wrapped into (−π, π], radians: a turn the short way round.

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::support::{Row, Support};
 use super::{GRAVITY, tipping_bound};
-use crate::geometry::{ConvexPolygon, convex_hull};
+use crate::geometry::{ConvexPolygon, clip, convex_hull, half_planes};
 use crate::scene::Pose;
 
 /// What the rider checks allow.
@@ -179,21 +179,6 @@ fn about_centroid(outline: &ConvexPolygon, yaw: f64) -> ConvexPolygon {
     turned.translated(&-centroid.coords)
 }
 
-/// The polygon's edges as half-planes `n·x ≤ d`, `n` the outward unit normal.
-fn half_planes(polygon: &ConvexPolygon) -> Vec<(Vector2<f64>, f64)> {
-    polygon
-        .edges()
-        .filter_map(|(p, q)| {
-            let edge = q - p;
-            let length = edge.norm();
-            (length > 1e-12).then(|| {
-                let normal = Vector2::new(edge.y, -edge.x) / length;
-                (normal, normal.dot(&p.coords))
-            })
-        })
-        .collect()
-}
-
 /// The largest `t` for which the hull inset by `t` meets the strip `strip.0 ≤ axis·x ≤ strip.1`,
 /// by bisection, and the centroid of that meeting; `None` when the strip misses the hull.
 fn deepest(
@@ -235,22 +220,6 @@ fn deepest(
     }
     let sum = corners.iter().fold(Vector2::zeros(), |s, p| s + p.coords);
     Some((low, Point2::from(sum / corners.len() as f64)))
-}
-
-/// The part of the convex polygon `points` where `normal·x ≤ d` (Sutherland–Hodgman).
-fn clip(points: &[Point2<f64>], normal: &Vector2<f64>, d: f64) -> Vec<Point2<f64>> {
-    let mut out = Vec::with_capacity(points.len() + 1);
-    for (k, p) in points.iter().enumerate() {
-        let q = &points[(k + 1) % points.len()];
-        let (fp, fq) = (normal.dot(&p.coords) - d, normal.dot(&q.coords) - d);
-        if fp <= 0.0 {
-            out.push(*p);
-        }
-        if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
-            out.push(p + (q - p) * (fp / (fp - fq)));
-        }
-    }
-    out
 }
 
 /// How far the centroid of `footprint` lies inside the hull of the parts of the faces `tops` that
