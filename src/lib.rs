@@ -24,6 +24,7 @@
 //!   [`schema`]: their JSON Schemas by name.
 //! - [`time_model`]: seconds per trip and per push, for objectives and picks per hour.
 //! - [`stack`]: riders on a pushed row's top: where one may stand, and the search for the spot.
+//! - [`perception`]: overhead depth frames and instance labels turned into a validated scene.
 //! - [`experiment`]: configurations, the parallel resumable runner, logs, tables and figures.
 //!
 //! ```
@@ -42,6 +43,7 @@ pub mod grasp;
 pub mod id;
 pub mod json;
 pub mod outcome;
+pub mod perception;
 pub mod plan;
 pub mod policy;
 pub mod problem;

@@ -23,6 +23,15 @@ const FORMATS: &[(&str, Builder)] = &[
     ("robot", of::<crate::exec::ur5::RobotConfig>),
     ("plan", of::<crate::plan::Plan>),
     ("trip", of::<crate::policy::TripPlan>),
+    ("camera", of::<crate::perception::Camera>),
+    (
+        "perception-report",
+        of::<crate::perception::PerceptionReport>,
+    ),
+    (
+        "perception-settings",
+        of::<crate::perception::PerceptionSettings>,
+    ),
 ];
 
 /// The names of the formats of this build.

@@ -10,6 +10,7 @@ mod experiments;
 mod fuzz;
 mod generator;
 mod geometry_properties;
+mod perception;
 mod policies;
 mod pushing_socp;
 mod scene_json;

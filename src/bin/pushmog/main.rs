@@ -370,6 +370,12 @@ enum SchemaFormat {
     Plan,
     /// One trip as a planner plans it (the Python package's `TripPlan.to_dict()`).
     Trip,
+    /// A depth camera's calibration (`pushmog::perception::Camera`).
+    Camera,
+    /// What a look found besides its objects (`perceive --report`).
+    PerceptionReport,
+    /// Perception thresholds (`pushmog::perception::PerceptionSettings`).
+    PerceptionSettings,
 }
 
 fn main() -> ExitCode {

@@ -1,0 +1,227 @@
+//! Measures `perceive` on generated scenes rendered exactly and with the default depth noise: the
+//! footprint's intersection over union with the truth, the centroid error, the yaw error and the
+//! error in the minimum grasp diameter, per object; prints a summary.
+//!
+//! `cargo run --release --example perception_accuracy -- [scenes] [tilt-degrees] [noise 0|1] [input]`
+//! where `input` is `depth` (the default), `labels` (exact labels and heights, no depth) or `eroded`
+//! (labels eroded by 2 pixels, with the depth), `touching` (each object's nearest neighbour slid
+//! against it, as a push leaves a pair; exact labels with the depth) or `bars` (the thin-bar set of
+//! `experiments/thin-bars.json`); `touching-depth` is `touching` without the labels.
+//! `PUSHMOG_FLYING`, `PUSHMOG_DROPPED` and `PUSHMOG_SIGMA` replace the noise's parameters.
+
+use std::collections::BTreeMap;
+
+use nalgebra::Isometry2;
+use pushmog::geometry::{ConvexPolygon, intersection_over_union, min_grasp_diameter};
+use pushmog::perception::{
+    Camera, Depth, DepthNoise, Frame, PerceptionSettings, add_noise, perceive, render_depth,
+};
+use pushmog::random::SeededRng;
+use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+
+/// The yaw, within ±10°, that turns `truth` (about its centroid) to fit `seen` best, and that fit.
+fn best_yaw(truth: &ConvexPolygon, seen: &ConvexPolygon) -> (f64, f64) {
+    let centred = |p: &ConvexPolygon| p.translated(&-p.centroid().coords);
+    let (truth, seen) = (centred(truth), centred(seen));
+    let fit =
+        |yaw: f64| intersection_over_union(&truth.transformed(&Isometry2::rotation(yaw)), &seen);
+    let mut best = (0.0, fit(0.0));
+    for k in -100..=100 {
+        let yaw = f64::from(k) * 0.1_f64.to_radians();
+        let f = fit(yaw);
+        if f > best.1 {
+            best = (yaw, f);
+        }
+    }
+    best
+}
+
+/// `labels` with every pixel whose window of radius `r` holds another label set to 0.
+fn erode(labels: &[u32], width: usize, r: usize) -> Vec<u32> {
+    let height = labels.len() / width;
+    (0..labels.len())
+        .map(|i| {
+            let (u, v) = (i % width, i / width);
+            let l = labels[i];
+            let same = (v.saturating_sub(r)..=(v + r).min(height - 1)).all(|y| {
+                (u.saturating_sub(r)..=(u + r).min(width - 1)).all(|x| labels[y * width + x] == l)
+            });
+            if same { l } else { 0 }
+        })
+        .collect()
+}
+
+/// `scene` with objects slid together in pairs: each object not yet paired, in order, draws its
+/// nearest unpaired neighbour along the line between their centroids until they touch.
+fn touching(scene: &pushmog::Scene) -> pushmog::Result<pushmog::Scene> {
+    let mut objects = scene.objects().to_vec();
+    let mut paired = vec![false; objects.len()];
+    for i in 0..objects.len() {
+        if paired[i] {
+            continue;
+        }
+        let c = objects[i].world_centroid();
+        let Some(j) = (0..objects.len())
+            .filter(|&j| j != i && !paired[j])
+            .min_by(|&a, &b| {
+                let d = |k: usize| (objects[k].world_centroid() - c).norm();
+                d(a).total_cmp(&d(b))
+            })
+        else {
+            continue;
+        };
+        let direction = (c - objects[j].world_centroid()).normalize();
+        let others: Vec<_> = (0..objects.len())
+            .filter(|&k| k != j)
+            .map(|k| objects[k].world_polygon())
+            .collect();
+        let moving = objects[j].world_polygon();
+        let slide = others
+            .iter()
+            .filter_map(|o| pushmog::geometry::cast_distance(&moving, &direction, 1.0, o))
+            .fold(1.0, f64::min);
+        objects[j].pose.x += direction.x * slide;
+        objects[j].pose.y += direction.y * slide;
+        paired[i] = true;
+        paired[j] = true;
+    }
+    scene.with_objects(objects)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let scenes: u64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(10);
+    let tilt: f64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(0.0);
+    let noisy = args.get(3).is_none_or(|a| a != "0");
+    let input = args.get(4).map_or("depth", String::as_str);
+    let settings = GeneratorSettings::default();
+    let above = 0.7;
+    let (xc, yc) = (0.3, 0.225);
+    let fov = 2.0 * (640.0_f64 / 700.0).atan();
+    let tilt = tilt.to_radians();
+    let camera =
+        Camera::looking_down(1280, 720, fov, xc, yc - above * tilt.tan(), above).tilted(tilt);
+    let mut rows: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    let mut statuses: BTreeMap<String, usize> = BTreeMap::new();
+    let mut missed = 0;
+    for seed in 1..=scenes {
+        let set = if input == "bars" {
+            serde_json::from_str(&std::fs::read_to_string("experiments/thin-bars.json")?)?
+        } else {
+            builtin_object_set()
+        };
+        let mut scene = generate_scene(&settings, &set, seed)?;
+        if input.starts_with("touching") {
+            scene = touching(&scene)?;
+        }
+        let rendered = render_depth(&scene, &camera)?;
+        let depth = if noisy {
+            let mut noise = DepthNoise::default();
+            if let Ok(f) = std::env::var("PUSHMOG_FLYING") {
+                noise.flying = f.parse()?;
+            }
+            if let Ok(f) = std::env::var("PUSHMOG_DROPPED") {
+                noise.dropped = f.parse()?;
+            }
+            if let Ok(f) = std::env::var("PUSHMOG_SIGMA") {
+                noise.sigma_per_square_metre = f.parse()?;
+            }
+            add_noise(&rendered.depth, 1280, &noise, &mut SeededRng::new(seed))
+        } else {
+            rendered.depth.clone()
+        };
+        let heights: BTreeMap<u32, f64> = (0..scene.len())
+            .map(|k| (k as u32 + 1, scene.objects()[k].height))
+            .collect();
+        let eroded = erode(&rendered.labels, 1280, 2);
+        let frame = match input {
+            "touching" => Frame {
+                depth: Some(Depth::Metres(&depth)),
+                labels: Some(&rendered.labels),
+                ..Frame::default()
+            },
+            "labels" => Frame {
+                labels: Some(&rendered.labels),
+                heights: Some(&heights),
+                ..Frame::default()
+            },
+            "eroded" => Frame {
+                depth: Some(Depth::Metres(&depth)),
+                labels: Some(&eroded),
+                ..Frame::default()
+            },
+            _ => Frame {
+                depth: Some(Depth::Metres(&depth)),
+                ..Frame::default()
+            },
+        };
+        let clock = std::time::Instant::now();
+        let seen = perceive(
+            &frame,
+            &camera,
+            scene.workspace(),
+            scene.gripper(),
+            None,
+            &PerceptionSettings::default(),
+        )?;
+        rows.entry("perceive ms")
+            .or_default()
+            .push(clock.elapsed().as_secs_f64() * 1e3);
+        for b in &seen.blobs {
+            rows.entry("solidity").or_default().push(b.solidity);
+            let s = serde_json::to_value(&b.status)?["status"]
+                .as_str()
+                .unwrap_or("?")
+                .to_string();
+            *statuses.entry(s).or_default() += 1;
+        }
+        for k in 0..scene.len() {
+            let truth = scene.world_polygon(k);
+            let c = truth.centroid();
+            let Some(object) = seen
+                .objects
+                .iter()
+                .min_by(|a, b| {
+                    let d = |o: &pushmog::scene::Object| (o.world_centroid() - c).norm();
+                    d(a).total_cmp(&d(b))
+                })
+                .filter(|o| (o.world_centroid() - c).norm() < 0.02)
+            else {
+                missed += 1;
+                continue;
+            };
+            let print = object.world_polygon();
+            rows.entry("iou")
+                .or_default()
+                .push(intersection_over_union(truth, &print));
+            rows.entry("centroid mm")
+                .or_default()
+                .push((print.centroid() - c).norm() * 1e3);
+            rows.entry("yaw deg")
+                .or_default()
+                .push(best_yaw(truth, &print).0.abs().to_degrees());
+            let d = min_grasp_diameter(&print).diameter - scene.min_grasp_diameter(k);
+            rows.entry("d* error mm").or_default().push(d * 1e3);
+            rows.entry("height mm")
+                .or_default()
+                .push((object.height - scene.objects()[k].height).abs() * 1e3);
+        }
+    }
+    println!(
+        "scenes {scenes}, tilt {:.1}°, noise {noisy}, input {input}, missed {missed}",
+        tilt.to_degrees()
+    );
+    println!("statuses {statuses:?}");
+    for (name, mut values) in rows {
+        values.sort_by(f64::total_cmp);
+        let n = values.len();
+        let mean = values.iter().sum::<f64>() / n as f64;
+        let p95 = values[(0.95 * (n - 1) as f64).round() as usize];
+        println!(
+            "{name:>12}: n {n}, mean {mean:.4}, min {:.4}, p95 {p95:.4}, max {:.4}",
+            values[0],
+            values[n - 1]
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,295 @@
+//! One blob judged: its top height, whether it is stacked, its footprint, and the status that the
+//! checks give it before tracking (`formulations/perception.md`, "Statuses").
+
+use nalgebra::Point2;
+
+use super::camera::Camera;
+use super::footprint::{footprint, image_hull};
+use super::report::BlobStatus;
+use super::settings::PerceptionSettings;
+use super::table::TablePlane;
+use crate::geometry::ConvexPolygon;
+use crate::scene::Workspace;
+
+/// A blob's pixels and where its top height comes from.
+pub struct Blob {
+    /// The label it came from, if any.
+    pub label: Option<u32>,
+    /// Its pixel indices.
+    pub pixels: Vec<usize>,
+    /// The height given for its label, if any.
+    pub given_height: Option<f64>,
+    /// The plane its pixels were cut at: the cut height for blobs from depth, 0 for labels alone.
+    pub cut: f64,
+    /// Whether one label covers separate pieces.
+    pub split: bool,
+}
+
+/// What judging a blob found.
+pub struct Judged {
+    /// `[u_min, v_min, u_max, v_max]`.
+    pub pixel_box: [usize; 4],
+    /// The top height, if known.
+    pub top: Option<f64>,
+    /// The image hull's solidity.
+    pub solidity: f64,
+    /// The footprint, if one was found.
+    pub footprint: Option<ConvexPolygon>,
+    /// The status before tracking and overlaps.
+    pub status: BlobStatus,
+}
+
+/// The largest count of `sorted` values within a window `width` wide, and that window's median.
+fn plateau(sorted: &[f64], width: f64) -> (usize, f64) {
+    let (mut best, mut at) = (0, (0, 0));
+    let mut end = 0;
+    for start in 0..sorted.len() {
+        while end < sorted.len() && sorted[end] <= sorted[start] + width {
+            end += 1;
+        }
+        if end - start > best {
+            best = end - start;
+            at = (start, end);
+        }
+    }
+    (
+        best,
+        sorted.get((at.0 + at.1) / 2).copied().unwrap_or(f64::NAN),
+    )
+}
+
+/// The top height and, for a stacked blob, the second plateau's.
+///
+/// The most populated 5 mm band of heights is one plateau; the most populated band at least
+/// `stacked_step` away from it, above or below, is a second one when it holds `stacked_fraction` of
+/// the pixels. Walls spread their pixels over every height and make no plateau. The top is the
+/// higher plateau.
+fn top_height(heights: &[f64], settings: &PerceptionSettings) -> (f64, Option<f64>) {
+    let mut sorted: Vec<f64> = heights.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let band = 0.005;
+    let (_, first) = plateau(&sorted, band);
+    let others: Vec<f64> = sorted
+        .iter()
+        .copied()
+        .filter(|&h| (h - first).abs() > settings.stacked_step && h > settings.cut_height + band)
+        .collect();
+    let (count, second) = plateau(&others, band);
+    if (count as f64) < settings.stacked_fraction * sorted.len() as f64 || count == 0 {
+        return (first, None);
+    }
+    (first.max(second), Some(first.min(second)))
+}
+
+/// Whether pixel `i` is above `cut`: its height is, or it has none and three of its four
+/// neighbours are (a pixel without depth inside a face, not one on a wall below the cut).
+pub fn above_cut(heights: &[f64], i: usize, width: usize, cut: f64) -> bool {
+    if heights[i].is_finite() {
+        return heights[i] > cut;
+    }
+    let (u, v) = (i % width, i / width);
+    let around = [
+        (u > 0).then(|| i - 1),
+        (u + 1 < width).then(|| i + 1),
+        (v > 0).then(|| i - width),
+        (i + width < heights.len()).then(|| i + width),
+    ];
+    around
+        .into_iter()
+        .flatten()
+        .filter(|&j| heights[j] > cut)
+        .count()
+        >= 3
+}
+
+/// The pixels of `pixels` that hold at least 5 of the 9 pixels of their 3×3 window: a pixel at an
+/// edge whose depth noise put it on the wrong side of the cut is outvoted by its neighbours.
+fn majority(pixels: &[usize], width: usize) -> Vec<usize> {
+    let window = super::blobs::Window::around(pixels, width);
+    pixels
+        .iter()
+        .copied()
+        .filter(|&i| {
+            let (u, v) = ((i % width) as isize, (i / width) as isize);
+            let mut count = 0;
+            for dv in -1..=1 {
+                for du in -1..=1 {
+                    count += usize::from(window.holds(u + du, v + dv));
+                }
+            }
+            count >= 5
+        })
+        .collect()
+}
+
+/// The pixel box of `pixels`, and whether it touches the image's border.
+fn pixel_box(pixels: &[usize], width: usize, height: usize) -> ([usize; 4], bool) {
+    let mut b = [usize::MAX, usize::MAX, 0, 0];
+    for &i in pixels {
+        let (u, v) = (i % width, i / width);
+        b = [b[0].min(u), b[1].min(v), b[2].max(u), b[3].max(v)];
+    }
+    let border = b[0] == 0 || b[1] == 0 || b[2] + 1 == width || b[3] + 1 == height;
+    (b, border)
+}
+
+/// The longest chord of `polygon`, metres.
+fn extent(polygon: &ConvexPolygon) -> f64 {
+    let v = polygon.vertices();
+    v.iter()
+        .flat_map(|a| v.iter().map(move |b| nalgebra::distance(a, b)))
+        .fold(0.0, f64::max)
+}
+
+/// How far `polygon` reaches outside `workspace` (0 inside), and whether all of it is outside.
+fn outside(polygon: &ConvexPolygon, workspace: &Workspace) -> (f64, bool) {
+    let reach = polygon
+        .vertices()
+        .iter()
+        .map(|p| workspace.outside_by(p))
+        .fold(0.0, f64::max);
+    let (lo, hi) = polygon.bounding_box();
+    let apart = hi.x < workspace.min[0]
+        || hi.y < workspace.min[1]
+        || lo.x > workspace.max[0]
+        || lo.y > workspace.max[1];
+    (reach, apart)
+}
+
+/// Judges one blob against `heights` (per pixel above the fitted table, NaN for none).
+pub fn judge(
+    blob: &Blob,
+    heights: Option<&[f64]>,
+    camera: &Camera,
+    table: &TablePlane,
+    workspace: &Workspace,
+    settings: &PerceptionSettings,
+) -> Judged {
+    let (width, height) = (
+        camera.intrinsics.width as usize,
+        camera.intrinsics.height as usize,
+    );
+    let (pixel_box, border) = pixel_box(&blob.pixels, width, height);
+    let known: Vec<f64> = heights.map_or(Vec::new(), |h| {
+        blob.pixels
+            .iter()
+            .map(|&i| h[i])
+            .filter(|h| h.is_finite())
+            .collect()
+    });
+    let (top, stacked) = match blob.given_height {
+        Some(h) => (Some(h), None),
+        None if known.len() as f64 >= settings.min_depth_fraction * blob.pixels.len() as f64
+            && !known.is_empty() =>
+        {
+            let (top, second) = top_height(&known, settings);
+            (Some(top), second)
+        }
+        None => (None, None),
+    };
+    // Blobs from depth are cut again at half their top: a flying pixel, mixed between the table
+    // and the top, then lies above the cut as often outside the edge as below it inside.
+    let (pixels, cut) = match (heights, top) {
+        (Some(h), Some(top)) if blob.given_height.is_none() && 0.5 * top > blob.cut => {
+            let cut = 0.5 * top;
+            let above: Vec<usize> = blob
+                .pixels
+                .iter()
+                .copied()
+                .filter(|&i| above_cut(h, i, width, cut))
+                .collect();
+            (majority(&above, width), cut)
+        }
+        _ => (blob.pixels.clone(), blob.cut),
+    };
+    let hull = image_hull(&pixels, width);
+    let solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
+    let print = match (&hull, top) {
+        (Some(hull), Some(top)) if top > cut => footprint(hull, camera, table, top, cut),
+        _ => None,
+    };
+    let measured = Measured {
+        top,
+        stacked,
+        solidity,
+        border,
+    };
+    let status = status(blob, &print, &measured, workspace, settings);
+    Judged {
+        pixel_box,
+        top,
+        solidity,
+        footprint: print,
+        status,
+    }
+}
+
+/// What the pixels say about a blob, before its footprint is judged.
+#[derive(Clone, Copy)]
+struct Measured {
+    top: Option<f64>,
+    stacked: Option<f64>,
+    solidity: f64,
+    border: bool,
+}
+
+/// The first status that applies, in the order of `formulations/perception.md`.
+fn status(
+    blob: &Blob,
+    print: &Option<ConvexPolygon>,
+    measured: &Measured,
+    workspace: &Workspace,
+    settings: &PerceptionSettings,
+) -> BlobStatus {
+    let Measured {
+        top,
+        stacked,
+        solidity,
+        border,
+    } = *measured;
+    let Some(top) = top else {
+        return BlobStatus::NoDepth;
+    };
+    let Some(print) = print else {
+        return BlobStatus::TooSmall;
+    };
+    if print.area() < settings.min_area {
+        return BlobStatus::TooSmall;
+    }
+    let (reach, apart) = outside(print, workspace);
+    if apart {
+        return BlobStatus::OutsideWorkspace;
+    }
+    if border {
+        return BlobStatus::TouchesImageBorder;
+    }
+    if blob.split {
+        return BlobStatus::SplitLabel;
+    }
+    if let Some(lower) = stacked {
+        return BlobStatus::Stacked {
+            heights: [top, lower],
+        };
+    }
+    if top > settings.max_height {
+        return BlobStatus::TooTall;
+    }
+    if extent(print) > settings.max_extent {
+        return BlobStatus::TooLarge;
+    }
+    if solidity < settings.min_solidity {
+        return BlobStatus::NotConvex;
+    }
+    if reach > settings.edge_trim {
+        return BlobStatus::StraddlesWorkspaceEdge;
+    }
+    BlobStatus::Object
+}
+
+/// The centroid of a footprint as the report's position.
+pub fn position(print: &Option<ConvexPolygon>) -> Option<[f64; 2]> {
+    print.as_ref().map(|p| {
+        let c: Point2<f64> = p.centroid();
+        [c.x, c.y]
+    })
+}

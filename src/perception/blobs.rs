@@ -1,0 +1,296 @@
+//! From a height image to blobs: the threshold at the cut height, a 3×3 opening, connected
+//! components (4-neighbours, union-find), and the growth of given instance labels into the mask.
+
+use std::collections::VecDeque;
+
+/// A row-major boolean image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mask {
+    /// Pixels per row.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// `true` where set.
+    pub set: Vec<bool>,
+}
+
+impl Mask {
+    /// Whether pixel `(u, v)` is set; `false` outside the image.
+    #[cfg(test)]
+    fn at(&self, u: isize, v: isize) -> bool {
+        u >= 0
+            && v >= 0
+            && (u as usize) < self.width
+            && (v as usize) < self.height
+            && self.set[v as usize * self.width + u as usize]
+    }
+
+    /// The 3×3 erosion (`all`) or dilation (`!all`) of the mask; outside the image counts as unset.
+    /// Separable: a 1×3 pass along the rows, then a 3×1 pass down the columns.
+    fn morph(&self, all: bool) -> Mask {
+        let (w, h) = (self.width, self.height);
+        let pass = |source: &[bool], step: usize, len: usize, count: usize| -> Vec<bool> {
+            let mut out = vec![false; source.len()];
+            for line in 0..count {
+                let (start, stride) = if step == 1 { (line * w, 1) } else { (line, w) };
+                for k in 0..len {
+                    let i = start + k * stride;
+                    let before = k > 0 && source[i - stride];
+                    let after = k + 1 < len && source[i + stride];
+                    out[i] = if all {
+                        before && source[i] && after
+                    } else {
+                        before || source[i] || after
+                    };
+                }
+            }
+            out
+        };
+        let rows = pass(&self.set, 1, w, h);
+        let set = pass(&rows, w, h, w);
+        Mask { set, ..*self }
+    }
+
+    /// The 3×3 opening (erosion, then dilation): removes specks and one-pixel spurs, keeps shapes
+    /// wider than three pixels, and cuts the tips off sharp corners.
+    pub fn opened(&self) -> Mask {
+        self.morph(true).morph(false)
+    }
+
+    /// The components of the mask that keep a pixel under the 3×3 opening, whole (the opening by
+    /// reconstruction): specks go, and sharp corners keep their tips. Also their labels, as
+    /// [`components`] numbers them (0 for the pixels dropped).
+    pub fn without_specks(&self) -> (Mask, Vec<u32>) {
+        let opened = self.opened();
+        let (mut parts, count) = components(self);
+        let mut keep = vec![false; count as usize + 1];
+        for (i, &part) in parts.iter().enumerate() {
+            if opened.set[i] {
+                keep[part as usize] = true;
+            }
+        }
+        for part in parts.iter_mut() {
+            if !keep[*part as usize] {
+                *part = 0;
+            }
+        }
+        let set = parts.iter().map(|&p| p != 0).collect();
+        (Mask { set, ..*self }, parts)
+    }
+}
+
+/// A blob's pixels as a bitmap over their box, with a pixel of margin.
+pub struct Window {
+    u0: isize,
+    v0: isize,
+    columns: isize,
+    rows: isize,
+    set: Vec<bool>,
+}
+
+impl Window {
+    /// The bitmap of `pixels` (indices into rows of `width`).
+    pub fn around(pixels: &[usize], width: usize) -> Self {
+        let (mut lo, mut hi) = ((isize::MAX, isize::MAX), (isize::MIN, isize::MIN));
+        for &i in pixels {
+            let (u, v) = ((i % width) as isize, (i / width) as isize);
+            lo = (lo.0.min(u), lo.1.min(v));
+            hi = (hi.0.max(u), hi.1.max(v));
+        }
+        let (u0, v0) = (lo.0 - 1, lo.1 - 1);
+        let (columns, rows) = ((hi.0 - u0 + 2).max(0), (hi.1 - v0 + 2).max(0));
+        let mut set = vec![false; (columns * rows) as usize];
+        for &i in pixels {
+            let (u, v) = ((i % width) as isize, (i / width) as isize);
+            set[((v - v0) * columns + u - u0) as usize] = true;
+        }
+        Self {
+            u0,
+            v0,
+            columns,
+            rows,
+            set,
+        }
+    }
+
+    /// Whether pixel `(u, v)` is one of the blob's.
+    pub fn holds(&self, u: isize, v: isize) -> bool {
+        let (x, y) = (u - self.u0, v - self.v0);
+        x >= 0
+            && y >= 0
+            && x < self.columns
+            && y < self.rows
+            && self.set[(y * self.columns + x) as usize]
+    }
+}
+
+/// Disjoint sets over pixel indices, with path halving.
+struct Sets(Vec<u32>);
+
+impl Sets {
+    fn find(&mut self, mut i: u32) -> u32 {
+        while self.0[i as usize] != i {
+            let parent = self.0[self.0[i as usize] as usize];
+            self.0[i as usize] = parent;
+            i = parent;
+        }
+        i
+    }
+
+    fn join(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            let (low, high) = (a.min(b), a.max(b));
+            self.0[high as usize] = low;
+        }
+    }
+}
+
+/// Connected components of the set pixels, 4-neighbours: per pixel 0 for unset, else `1..=count`
+/// numbered in the raster order of each component's first pixel; and the count.
+pub fn components(mask: &Mask) -> (Vec<u32>, u32) {
+    let (width, n) = (mask.width, mask.set.len());
+    let mut sets = Sets((0..n as u32).collect());
+    for i in 0..n {
+        if !mask.set[i] {
+            continue;
+        }
+        if i % width > 0 && mask.set[i - 1] {
+            sets.join(i as u32, (i - 1) as u32);
+        }
+        if i >= width && mask.set[i - width] {
+            sets.join(i as u32, (i - width) as u32);
+        }
+    }
+    let mut names = vec![0_u32; n];
+    let mut count = 0;
+    let mut out = vec![0_u32; n];
+    for (i, (label, &set)) in out.iter_mut().zip(&mask.set).enumerate() {
+        if set {
+            let root = sets.find(i as u32) as usize;
+            if names[root] == 0 {
+                count += 1;
+                names[root] = count;
+            }
+            *label = names[root];
+        }
+    }
+    (out, count)
+}
+
+/// Each set pixel of `mask` takes the label of the nearest labelled set pixel, nearest in steps
+/// through set pixels (4-neighbours, ties to the label reached first); set pixels that no label
+/// reaches get 0. So a label eroded by a few pixels still claims its whole blob, and two labels
+/// split a blob that the depth alone would merge.
+pub fn grow_labels(mask: &Mask, labels: &[u32]) -> Vec<u32> {
+    let width = mask.width;
+    let mut out = vec![0_u32; mask.set.len()];
+    let mut queue = VecDeque::new();
+    for (i, (&set, &label)) in mask.set.iter().zip(labels).enumerate() {
+        if set && label != 0 {
+            out[i] = label;
+            queue.push_back(i);
+        }
+    }
+    while let Some(i) = queue.pop_front() {
+        let (u, v) = (i % width, i / width);
+        let neighbours = [
+            (u > 0).then(|| i - 1),
+            (u + 1 < width).then(|| i + 1),
+            (v > 0).then(|| i - width),
+            (v + 1 < mask.height).then(|| i + width),
+        ];
+        for j in neighbours.into_iter().flatten() {
+            if mask.set[j] && out[j] == 0 {
+                out[j] = out[i];
+                queue.push_back(j);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::SeededRng;
+
+    /// The components by flood fill from each unvisited set pixel, in raster order: the oracle.
+    fn flood(mask: &Mask) -> Vec<u32> {
+        let mut out = vec![0_u32; mask.set.len()];
+        let mut count = 0;
+        for start in 0..mask.set.len() {
+            if !mask.set[start] || out[start] != 0 {
+                continue;
+            }
+            count += 1;
+            let mut stack = vec![start];
+            out[start] = count;
+            while let Some(i) = stack.pop() {
+                let (u, v) = ((i % mask.width) as isize, (i / mask.width) as isize);
+                for (du, dv) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
+                    if mask.at(u + du, v + dv) {
+                        let j = (v + dv) as usize * mask.width + (u + du) as usize;
+                        if out[j] == 0 {
+                            out[j] = count;
+                            stack.push(j);
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn union_find_labels_agree_with_flood_fill_on_random_masks() {
+        let mut rng = SeededRng::new(40);
+        for trial in 0..200 {
+            let (width, height) = (1 + rng.index(40), 1 + rng.index(30));
+            let density = rng.uniform(0.2, 0.8);
+            let set = (0..width * height).map(|_| rng.unit() < density).collect();
+            let mask = Mask { width, height, set };
+            let (labels, count) = components(&mask);
+            let oracle = flood(&mask);
+            assert_eq!(labels, oracle, "trial {trial}: {width}×{height}");
+            assert_eq!(count, oracle.iter().copied().max().unwrap_or(0));
+        }
+    }
+
+    #[test]
+    fn opening_removes_specks_and_keeps_a_square() {
+        let (width, height) = (12, 12);
+        let mut set = vec![false; width * height];
+        for v in 2..8 {
+            for u in 2..8 {
+                set[v * width + u] = true;
+            }
+        }
+        set[10 * width + 10] = true;
+        let opened = Mask {
+            width,
+            height,
+            set: set.clone(),
+        }
+        .opened();
+        set[10 * width + 10] = false;
+        assert_eq!(opened.set, set);
+    }
+
+    #[test]
+    fn grown_labels_claim_the_whole_blob_and_split_it_where_they_meet() {
+        let (width, height) = (10, 3);
+        let mask = Mask {
+            width,
+            height,
+            set: vec![true; width * height],
+        };
+        let mut labels = vec![0_u32; width * height];
+        labels[width + 1] = 5;
+        labels[width + 8] = 9;
+        let grown = grow_labels(&mask, &labels);
+        assert!(grown.iter().all(|&l| l == 5 || l == 9));
+        assert_eq!(grown[width], 5);
+        assert_eq!(grown[width + 9], 9);
+    }
+}

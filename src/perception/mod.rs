@@ -1,0 +1,45 @@
+//! From a camera to a scene: overhead depth frames (and optional instance labels) turned into a
+//! validated [`Scene`](crate::Scene), with ids kept across looks and a report for every blob.
+//!
+//! The maths is in `formulations/perception.md`:
+//! - the camera ([`Camera`]): OpenCV pinhole conventions, `p_table = R·p_cam + t`, depth = camera `z`;
+//! - the table `z = a·x + b·y + c`, fitted by least squares to the pixels that see it
+//!   (`table.rs`), so each pixel's height is measured from the table as it is;
+//! - the blobs: pixels more than the cut height `c` above the table, a 3×3 opening, 4-connected
+//!   components (`blobs.rs`), or given labels grown into that mask;
+//! - the footprint (`footprint.rs`): a blob's image hull back-projected onto the top plane `z = h`
+//!   and onto the cut plane `z = c` gives two polygons whose intersection is exactly the top face of
+//!   an unoccluded convex prism, at any camera tilt (the two-plane theorem);
+//! - every blob gets a [`BlobStatus`]; those that block planning keep [`Perception::scene`] from
+//!   giving a scene, so nothing in view is dropped silently;
+//! - ids are kept by matching centroids to a prior scene (`track.rs`).
+//!
+//! [`render_depth`] and [`add_noise`] make frames of known scenes: test support, and a camera for
+//! the simulator. [`read_npy`] reads NumPy's `.npy` images; [`overlay_svg`] draws a look's blobs
+//! over its image.
+
+mod blob;
+mod blobs;
+mod camera;
+mod footprint;
+mod input;
+mod noise;
+mod npy;
+mod overlay;
+mod perceive;
+mod render;
+mod report;
+mod settings;
+mod table;
+mod track;
+
+pub use camera::{Camera, DepthUnits, Extrinsics, Intrinsics, KNOWN_SCALES, MAX_CAMERA_TILT};
+pub use input::{Depth, Frame};
+pub use noise::{DepthNoise, add_noise};
+pub use npy::{Npy, NpyData, read_npy, write_npy_f32};
+pub use overlay::overlay_svg;
+pub use perceive::perceive;
+pub use render::{Rendered, render_depth};
+pub use report::{BlobReport, BlobStatus, Perception, PerceptionReport};
+pub use settings::PerceptionSettings;
+pub use table::TablePlane;

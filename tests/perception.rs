@@ -1,0 +1,472 @@
+//! Perception: depth frames of known scenes, rendered exactly (and with the default noise), turned
+//! back into scenes; one fixture per blob status and per input error; ids kept across looks.
+
+use std::collections::BTreeMap;
+
+use nalgebra::{Point2, Vector2};
+use pushmog::geometry::{ConvexPolygon, intersection_over_union};
+use pushmog::perception::{
+    BlobStatus, Camera, Depth, DepthNoise, Frame, Perception, PerceptionSettings, add_noise,
+    perceive, render_depth,
+};
+use pushmog::random::SeededRng;
+use pushmog::scene::{
+    GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
+    generate_scene,
+};
+
+use crate::support::boxes;
+
+/// 640 × 480 pixels, 0.7 m straight above the middle of the 0.5 m × 0.4 m table of `boxes`
+/// (about 1.2 mm per pixel).
+fn camera() -> Camera {
+    Camera::looking_down(640, 480, 1.0, 0.25, 0.2, 0.7)
+}
+
+/// A 30 mm-tall object of `width` × `depth` at `(x, y)`, `height` tall.
+fn block(id: u32, x: f64, y: f64, size: (f64, f64), height: f64) -> Object {
+    Object {
+        id: ObjectId(id),
+        name: None,
+        polygon: ConvexPolygon::rectangle(
+            &Point2::origin(),
+            &Vector2::x(),
+            size.0 / 2.0,
+            size.1 / 2.0,
+        ),
+        pose: Pose::new(x, y, 0.0),
+        height,
+        mass: None,
+    }
+}
+
+fn table(objects: Vec<Object>, workspace: Workspace) -> Scene {
+    Scene::from_parts(workspace, Gripper::default(), objects).unwrap()
+}
+
+/// What `camera` makes of `truth`, exact depth, seen against `workspace`.
+fn look(
+    truth: &Scene,
+    camera: &Camera,
+    workspace: &Workspace,
+    prior: Option<&Scene>,
+) -> Perception {
+    look_with(
+        truth,
+        camera,
+        workspace,
+        prior,
+        &PerceptionSettings::default(),
+    )
+}
+
+fn look_with(
+    truth: &Scene,
+    camera: &Camera,
+    workspace: &Workspace,
+    prior: Option<&Scene>,
+    settings: &PerceptionSettings,
+) -> Perception {
+    let rendered = render_depth(truth, camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        ..Frame::default()
+    };
+    perceive(&frame, camera, workspace, truth.gripper(), prior, settings).unwrap()
+}
+
+/// The index of the object of `scene` whose centroid is nearest `(x, y)`.
+fn nearest(scene: &Scene, x: f64, y: f64) -> usize {
+    let d = |k: usize| (scene.centroid(k) - Point2::new(x, y)).norm();
+    (0..scene.len())
+        .min_by(|&a, &b| d(a).total_cmp(&d(b)))
+        .unwrap()
+}
+
+/// The statuses of the blobs, in order.
+fn statuses(seen: &Perception) -> Vec<BlobStatus> {
+    seen.blobs.iter().map(|b| b.status.clone()).collect()
+}
+
+/// The footprint seen nearest each object of `truth` and its intersection over union with it.
+fn fits(truth: &Scene, seen: &Perception) -> Vec<f64> {
+    (0..truth.len())
+        .map(|k| {
+            let c = truth.centroid(k);
+            seen.objects
+                .iter()
+                .map(|o| o.world_polygon())
+                .filter(|p| (p.centroid() - c).norm() < 0.02)
+                .map(|p| intersection_over_union(truth.world_polygon(k), &p))
+                .fold(0.0, f64::max)
+        })
+        .collect()
+}
+
+#[test]
+fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
+    let truth = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let camera = Camera::looking_down(1280, 720, 2.0 * (640.0_f64 / 700.0).atan(), 0.3, 0.225, 0.7)
+        .tilted(0.1);
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let noisy = add_noise(
+        &rendered.depth,
+        1280,
+        &DepthNoise::default(),
+        &mut SeededRng::new(3),
+    );
+    for (depth, floor) in [(&rendered.depth, 0.94), (&noisy, 0.9)] {
+        let frame = Frame {
+            depth: Some(Depth::Metres(depth)),
+            ..Frame::default()
+        };
+        let seen = perceive(
+            &frame,
+            &camera,
+            truth.workspace(),
+            truth.gripper(),
+            None,
+            &PerceptionSettings::default(),
+        )
+        .unwrap();
+        // Nothing missed, nothing spurious, every blob listed.
+        assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
+        assert!(seen.blobs.iter().all(|b| !b.status.blocks()));
+        let fits = fits(&truth, &seen);
+        assert!(fits.iter().all(|&f| f >= floor), "{fits:?}");
+        for object in &seen.objects {
+            assert!(
+                (object.height - 0.03).abs() < 1e-3,
+                "height {}",
+                object.height
+            );
+        }
+        // The look is a valid scene.
+        assert_eq!(seen.scene().unwrap().len(), truth.len());
+    }
+}
+
+#[test]
+fn labels_and_heights_without_depth_give_the_outlines() {
+    let truth = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 4).unwrap();
+    let camera = Camera::looking_down(1280, 720, 2.0 * (640.0_f64 / 700.0).atan(), 0.3, 0.225, 0.7);
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let heights: BTreeMap<u32, f64> = (0..truth.len()).map(|k| (k as u32 + 1, 0.03)).collect();
+    let frame = Frame {
+        labels: Some(&rendered.labels),
+        heights: Some(&heights),
+        ..Frame::default()
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    let fits = fits(&truth, &seen);
+    let mean = fits.iter().sum::<f64>() / fits.len() as f64;
+    assert!(mean >= 0.975, "mean {mean}: {fits:?}");
+    // Without a prior, a labelled object takes its label as its id.
+    assert!(seen.objects.iter().all(|o| (1..=34).contains(&o.id.0)));
+}
+
+#[test]
+fn ids_are_kept_over_looks_and_objects_taken_are_listed_as_gone() {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1), (0.3, 0.1), (0.2, 0.3)]);
+    let (camera, workspace) = (camera(), truth.workspace().clone());
+    let first = look(&truth, &camera, &workspace, None).scene().unwrap();
+    let second = look(&truth, &camera, &workspace, Some(&first));
+    let ids = |s: &[Object]| s.iter().map(|o| o.id).collect::<Vec<_>>();
+    assert_eq!(ids(&second.objects), ids(first.objects()));
+    assert!(second.gone.is_empty());
+    let taken = first.objects()[nearest(&first, 0.3, 0.1)].id;
+    let third = look(
+        &truth.without(&[ObjectId(1)]),
+        &camera,
+        &workspace,
+        Some(&first),
+    );
+    assert_eq!(third.gone, vec![taken]);
+    assert_eq!(third.objects.len(), 2);
+    assert!(third.objects.iter().all(|o| o.id != taken));
+}
+
+#[test]
+fn after_a_45_mm_push_the_predicted_scene_keeps_the_id_and_the_last_look_does_not() {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1), (0.3, 0.1), (0.2, 0.3)]);
+    let (camera, workspace) = (camera(), truth.workspace().clone());
+    let before = look(&truth, &camera, &workspace, None).scene().unwrap();
+    let k = nearest(&before, 0.1, 0.1);
+    let mut moved = before.objects().to_vec();
+    moved[k].pose.x += 0.045;
+    let predicted = before.with_objects(moved).unwrap();
+    let mut pushed = truth.objects().to_vec();
+    pushed[0].pose.x += 0.045;
+    let after = truth.with_objects(pushed).unwrap();
+    let id = before.objects()[k].id;
+    let with_prediction = look(&after, &camera, &workspace, Some(&predicted));
+    assert!(with_prediction.gone.is_empty());
+    assert!(
+        with_prediction
+            .objects
+            .iter()
+            .any(|o| o.id == id && (o.pose.x - 0.145).abs() < 2e-3)
+    );
+    let with_last_look = look(&after, &camera, &workspace, Some(&before));
+    assert_eq!(with_last_look.gone, vec![id]);
+    assert!(statuses(&with_last_look).contains(&BlobStatus::New));
+}
+
+#[test]
+fn a_crumb_is_too_small_and_an_object_off_the_workspace_is_outside_it() {
+    let wide = Workspace::new(0.5, 0.4);
+    let truth = table(
+        vec![
+            block(0, 0.1, 0.1, (0.04, 0.04), 0.03),
+            block(1, 0.3, 0.1, (0.006, 0.006), 0.01),
+            block(2, 0.45, 0.3, (0.04, 0.04), 0.03),
+            block(3, 0.2, 0.25, (0.04, 0.04), 0.03),
+        ],
+        wide,
+    );
+    let narrow = Workspace {
+        min: [0.0, 0.0],
+        max: [0.4, 0.4],
+    };
+    let seen = look(&truth, &camera(), &narrow, None);
+    let s = statuses(&seen);
+    assert!(s.contains(&BlobStatus::TooSmall), "{s:?}");
+    assert!(s.contains(&BlobStatus::OutsideWorkspace), "{s:?}");
+    assert_eq!(seen.objects.len(), 2);
+    assert!(seen.scene().is_ok());
+    // The same object across the edge blocks.
+    let across = Workspace {
+        min: [0.0, 0.0],
+        max: [0.45, 0.4],
+    };
+    let seen = look(&truth, &camera(), &across, None);
+    assert!(statuses(&seen).contains(&BlobStatus::StraddlesWorkspaceEdge));
+    let error = seen.scene().unwrap_err().to_string();
+    assert!(error.contains("straddles_workspace_edge"), "{error}");
+}
+
+#[test]
+fn an_object_cut_by_the_image_border_blocks() {
+    // The image just spans the 0.5 m of the table along x.
+    let camera = Camera::looking_down(
+        640,
+        520,
+        2.0 * (0.25_f64 / 0.7).atan() * 1.0005,
+        0.25,
+        0.2,
+        0.7,
+    );
+    let truth = table(
+        vec![block(0, 0.02, 0.2, (0.04, 0.04), 0.03)],
+        Workspace::new(0.5, 0.4),
+    );
+    let seen = look(&truth, &camera, truth.workspace(), None);
+    assert_eq!(statuses(&seen), vec![BlobStatus::TouchesImageBorder]);
+}
+
+#[test]
+fn objects_beyond_the_settings_bounds_are_too_tall_or_too_large() {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1)]);
+    let (camera, workspace) = (camera(), truth.workspace().clone());
+    let low = PerceptionSettings {
+        max_height: 0.02,
+        ..PerceptionSettings::default()
+    };
+    assert_eq!(
+        statuses(&look_with(&truth, &camera, &workspace, None, &low)),
+        vec![BlobStatus::TooTall]
+    );
+    let small = PerceptionSettings {
+        max_extent: 0.03,
+        ..PerceptionSettings::default()
+    };
+    assert_eq!(
+        statuses(&look_with(&truth, &camera, &workspace, None, &small)),
+        vec![BlobStatus::TooLarge]
+    );
+}
+
+#[test]
+fn touching_objects_are_not_convex_alone_merged_with_a_prior_and_stacked_when_heights_differ() {
+    // Two 40 mm squares side by side, one 30 mm higher up the table than the other.
+    let truth = boxes(0.04, 0.04, &[(0.2, 0.2), (0.24, 0.23)]);
+    let (camera, workspace) = (camera(), truth.workspace().clone());
+    let alone = look(&truth, &camera, &workspace, None);
+    assert_eq!(
+        statuses(&alone),
+        vec![BlobStatus::NotConvex],
+        "{:?}",
+        alone.blobs
+    );
+    let merged = look(&truth, &camera, &workspace, Some(&truth));
+    assert_eq!(
+        statuses(&merged),
+        vec![BlobStatus::Merged {
+            ids: vec![ObjectId(0), ObjectId(1)]
+        }]
+    );
+    assert!(merged.gone.is_empty(), "{:?}", merged.gone);
+    // Flush, at two heights: one convex blob with two plateaus.
+    let stacked = table(
+        vec![
+            block(0, 0.2, 0.2, (0.04, 0.04), 0.03),
+            block(1, 0.24, 0.2, (0.04, 0.04), 0.06),
+        ],
+        Workspace::new(0.5, 0.4),
+    );
+    let s = statuses(&look(&stacked, &camera, &workspace, None));
+    let [BlobStatus::Stacked { heights }] = s.as_slice() else {
+        panic!("{s:?}")
+    };
+    assert!(
+        (heights[0] - 0.06).abs() < 2e-3 && (heights[1] - 0.03).abs() < 2e-3,
+        "{heights:?}"
+    );
+}
+
+#[test]
+fn labels_that_split_or_lack_depth_block() {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1), (0.3, 0.1), (0.2, 0.3)]);
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    // One label on two separate boxes.
+    let labels: Vec<u32> = rendered
+        .labels
+        .iter()
+        .map(|&l| if l == 2 { 1 } else { l })
+        .collect();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&labels),
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    assert!(
+        statuses(&seen).contains(&BlobStatus::SplitLabel),
+        "{:?}",
+        statuses(&seen)
+    );
+    // No depth where the third box is, and no height for its label.
+    let depth: Vec<f32> = rendered
+        .depth
+        .iter()
+        .zip(&rendered.labels)
+        .map(|(&z, &l)| if l == 3 { f32::NAN } else { z })
+        .collect();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&depth)),
+        labels: Some(&rendered.labels),
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    assert!(
+        statuses(&seen).contains(&BlobStatus::NoDepth),
+        "{:?}",
+        statuses(&seen)
+    );
+    assert!(seen.scene().unwrap_err().to_string().contains("no_depth"));
+}
+
+/// The error `perceive` gives for `frame` with `camera` on the table of `boxes`.
+fn refusal(frame: &Frame, camera: &Camera) -> String {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1)]);
+    perceive(
+        frame,
+        camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap_err()
+    .to_string()
+}
+
+#[test]
+fn bad_input_is_refused_naming_its_field() {
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1)]);
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let metres = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        ..Frame::default()
+    };
+    // Sizes that differ.
+    let short = Frame {
+        depth: Some(Depth::Metres(&rendered.depth[1..])),
+        ..Frame::default()
+    };
+    assert!(refusal(&short, &camera).contains("field `depth`"));
+    let labels = vec![0_u32; 10];
+    let wrong = Frame {
+        labels: Some(&labels),
+        ..metres
+    };
+    assert!(refusal(&wrong, &camera).contains("field `labels`"));
+    // Neither depth nor labels.
+    assert!(refusal(&Frame::default(), &camera).contains("needs a depth image"));
+    // 16-bit depth without a scale, and with a D400's scale on an L515's units.
+    let units: Vec<u16> = rendered
+        .depth
+        .iter()
+        .map(|&z| (f64::from(z) / 0.00025).round() as u16)
+        .collect();
+    let frame = Frame {
+        depth: Some(Depth::Units(&units)),
+        ..Frame::default()
+    };
+    assert!(refusal(&frame, &camera).contains("field `depth.scale`"));
+    let mut scaled = camera.clone();
+    scaled.depth.scale = Some(0.001);
+    let message = refusal(&frame, &scaled);
+    assert!(message.contains("L515"), "{message}");
+    scaled.depth.scale = Some(0.00025);
+    assert!(
+        perceive(
+            &frame,
+            &scaled,
+            truth.workspace(),
+            truth.gripper(),
+            None,
+            &PerceptionSettings::default()
+        )
+        .is_ok()
+    );
+    // A rotation that is not one, a camera looking sideways.
+    let mut skew = camera.clone();
+    skew.extrinsics.rotation[0][0] = 1.1;
+    assert!(refusal(&metres, &skew).contains("is not a rotation"));
+    let sideways = camera.clone().tilted(1.0);
+    assert!(refusal(&metres, &sideways).contains("does not look down"));
+    // A workspace corner out of view.
+    let narrow = Camera::looking_down(640, 480, 0.5, 0.25, 0.2, 0.7);
+    assert!(refusal(&metres, &narrow).contains("outside the camera's"));
+    // A table 5 cm off the calibrated one.
+    let mut high = camera.clone();
+    high.extrinsics.translation[2] += 0.05;
+    assert!(refusal(&metres, &high).starts_with("table: "));
+}
