@@ -470,3 +470,97 @@ fn bad_input_is_refused_naming_its_field() {
     high.extrinsics.translation[2] += 0.05;
     assert!(refusal(&metres, &high).starts_with("table: "));
 }
+
+/// The camera of [`camera`] as the TOML file `pushmog perceive --camera` reads.
+fn camera_toml(camera: &Camera, scale: Option<f64>) -> String {
+    let k = &camera.intrinsics;
+    let r = &camera.extrinsics.rotation;
+    let t = &camera.extrinsics.translation;
+    let scale = scale.map_or(String::new(), |s| format!("[depth]\nscale = {s}\n"));
+    format!(
+        "[intrinsics]\nwidth = {}\nheight = {}\nfx = {}\nfy = {}\ncx = {}\ncy = {}\n{scale}\
+         [extrinsics]\nrotation = {r:?}\ntranslation = {t:?}\n",
+        k.width, k.height, k.fx, k.fy, k.cx, k.cy
+    )
+}
+
+#[test]
+fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay() {
+    use crate::support::{pushmog, scratch};
+    let dir = scratch("perceive-cli");
+    let truth = boxes(0.04, 0.04, &[(0.1, 0.1), (0.3, 0.1), (0.2, 0.3)]);
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    std::fs::write(dir.join("state.json"), pushmog::json::to_json(&truth)).unwrap();
+    std::fs::write(dir.join("camera.toml"), camera_toml(&camera, Some(0.0001))).unwrap();
+    std::fs::write(
+        dir.join("depth.npy"),
+        pushmog::perception::write_npy_f32(&rendered.depth, 480, 640),
+    )
+    .unwrap();
+    // The same depth as a 16-bit PNG in 0.1 mm units (a RealSense D405's).
+    let mut png_bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut png_bytes, 640, 480);
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::Sixteen);
+        let mut writer = encoder.write_header().unwrap();
+        let data: Vec<u8> = rendered
+            .depth
+            .iter()
+            .flat_map(|&z| ((f64::from(z) / 0.0001).round() as u16).to_be_bytes())
+            .collect();
+        writer.write_image_data(&data).unwrap();
+    }
+    std::fs::write(dir.join("depth.png"), png_bytes).unwrap();
+    let path = |name: &str| dir.join(name).display().to_string();
+    for depth in ["depth.npy", "depth.png"] {
+        let out = pushmog(&[
+            "perceive",
+            "--camera",
+            &path("camera.toml"),
+            "--depth",
+            &path(depth),
+            "--state",
+            &path("state.json"),
+            "-o",
+            &path("scene.json"),
+            "--report",
+            &path("report.json"),
+            "--overlay",
+            &path("overlay.svg"),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let scene = pushmog::json::scene_from_json(
+            &std::fs::read_to_string(dir.join("scene.json")).unwrap(),
+            "scene.json",
+        )
+        .unwrap();
+        assert_eq!(scene.len(), 3, "{depth}");
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
+                .unwrap();
+        assert_eq!(report["blobs"].as_array().unwrap().len(), 3);
+        assert!(
+            std::fs::read_to_string(dir.join("overlay.svg"))
+                .unwrap()
+                .contains("<polygon")
+        );
+    }
+    // A camera file that is not a rotation is refused, naming the field, with exit code 1.
+    let bad = camera_toml(&camera, None).replace("rotation = [[1.0", "rotation = [[1.5");
+    std::fs::write(dir.join("bad.toml"), bad).unwrap();
+    let out = pushmog(&[
+        "perceive",
+        "--camera",
+        &path("bad.toml"),
+        "--depth",
+        &path("depth.npy"),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("extrinsics.rotation"));
+}

@@ -59,6 +59,9 @@ enum Command {
         /// Plan file written by `pushmog plan`.
         plan: PathBuf,
     },
+    /// Turn an overhead depth image (and instance labels) into a scene file: every blob reported,
+    /// ids kept from a prior scene; refuses, listing them, when blobs block planning.
+    Perceive(PerceiveArgs),
     /// Draw a scene, or a plan (clusters numbered in execution order, push arrows, jaw outlines), as SVG.
     Render(RenderArgs),
     /// Print the JSON Schema of a file format.
@@ -343,6 +346,39 @@ struct RenderArgs {
     grasp_diameters: bool,
 }
 
+#[derive(clap::Args, Debug)]
+struct PerceiveArgs {
+    /// The camera: TOML (or JSON by extension), `pushmog schema camera`.
+    #[arg(long)]
+    camera: PathBuf,
+    /// Depth image: `.npy` of float32/float64 metres or uint16 units, or a 16-bit grey PNG in the
+    /// camera's `depth.scale` units.
+    #[arg(long)]
+    depth: Option<PathBuf>,
+    /// Instance labels: `.npy` of integers or an 8/16-bit grey PNG, one id per pixel, 0 for none.
+    #[arg(long)]
+    labels: Option<PathBuf>,
+    /// The scene expected: the last look, or better the scene predicted after the pushes; its ids
+    /// are kept, and its workspace and gripper used unless `--state` is given.
+    #[arg(long)]
+    prior: Option<PathBuf>,
+    /// A scene file whose workspace and gripper the look is for (its objects are not used).
+    #[arg(long)]
+    state: Option<PathBuf>,
+    /// Perception settings as JSON (`pushmog schema perception-settings`).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// The scene file to write (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// The report of every blob, the table fit and the adjustments, as JSON.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// The blobs drawn over the image, as SVG: rejected ones in red with their reasons.
+    #[arg(long)]
+    overlay: Option<PathBuf>,
+}
+
 /// The clusterers `pushmog cluster --method` offers.
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 enum ClusterMethod {
@@ -395,6 +431,7 @@ fn main() -> ExitCode {
         Command::Report(args) => commands::report(&args.log, &args.tables, &args.figures),
         Command::ComparePushing(args) => commands::compare_pushing(&args),
         Command::Render(args) => commands::render(&args),
+        Command::Perceive(args) => commands::perceive(&args),
         Command::Schema { format } => commands::schema(format),
         Command::Library { json, output } => commands::library(json, output.as_deref()),
         Command::Demo { out, seed } => commands::demo(&out, seed),

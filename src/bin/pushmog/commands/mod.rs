@@ -4,6 +4,7 @@ mod compare;
 mod experiment;
 mod files;
 mod io;
+mod perceive;
 mod run;
 mod scene;
 
@@ -11,5 +12,6 @@ pub use compare::{compare_clustering, compare_pushing, grasp_agreement};
 pub use experiment::{experiment, merge, report};
 pub use files::{render, schema, verify};
 pub(crate) use io::{policy, summary};
+pub use perceive::perceive;
 pub use run::{cluster, plan, run};
 pub use scene::{check, demo, generate, library};

@@ -1,0 +1,192 @@
+//! `perceive`: a depth image (and labels) from files to a scene file, a report and an overlay.
+
+use std::path::Path;
+
+use pushmog::error::{Error, Result};
+use pushmog::json::{self, to_json};
+use pushmog::perception::{
+    Camera, Depth, Frame, NpyData, PerceptionSettings, overlay_svg, perceive as look, read_npy,
+};
+use pushmog::scene::{Gripper, Scene, Workspace};
+
+use crate::PerceiveArgs;
+
+use super::io::{read_scene, settings_or_default, write_output};
+
+/// The values of an image file.
+enum Values {
+    Float(Vec<f32>),
+    Unsigned16(Vec<u16>),
+    Integer(Vec<u32>),
+}
+
+/// An image read from a `.npy` or `.png` file: rows, columns, values.
+struct Image {
+    rows: usize,
+    columns: usize,
+    values: Values,
+}
+
+fn io_error(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Reads a `.npy` array or a grey-scale `.png` (8 or 16 bits).
+fn read_image(path: &Path) -> Result<Image> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+    if bytes.starts_with(b"\x93NUMPY") {
+        let npy = read_npy(&bytes, &name)?;
+        let values = match npy.data {
+            NpyData::Float(v) => Values::Float(v),
+            NpyData::Unsigned16(v) => Values::Unsigned16(v),
+            NpyData::Integer(v) => Values::Integer(v),
+        };
+        return Ok(Image {
+            rows: npy.rows,
+            columns: npy.columns,
+            values,
+        });
+    }
+    let bad = |reason: String| Error::field(name.clone(), "png", reason);
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| bad(format!("neither a .npy nor a readable PNG file: {e}")))?;
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| bad("the image is too large".into()))?;
+    let mut buffer = vec![0; size];
+    let frame = reader
+        .next_frame(&mut buffer)
+        .map_err(|e| bad(e.to_string()))?;
+    if frame.color_type != png::ColorType::Grayscale {
+        return Err(bad(format!(
+            "a depth or label image must be one grey channel, this is {:?}",
+            frame.color_type
+        )));
+    }
+    let (rows, columns) = (frame.height as usize, frame.width as usize);
+    let data = &buffer[..frame.buffer_size()];
+    let values = match frame.bit_depth {
+        png::BitDepth::Sixteen => Values::Unsigned16(
+            data.chunks_exact(2)
+                .map(|b| u16::from_be_bytes([b[0], b[1]]))
+                .collect(),
+        ),
+        png::BitDepth::Eight => Values::Integer(data.iter().map(|&b| u32::from(b)).collect()),
+        depth => return Err(bad(format!("{depth:?}-bit grey is not read: 8 or 16 bits"))),
+    };
+    Ok(Image {
+        rows,
+        columns,
+        values,
+    })
+}
+
+/// Refuses an image whose size is not the camera's.
+fn check_size(image: &Image, camera: &Camera, flag: &str) -> Result<()> {
+    let k = &camera.intrinsics;
+    if (image.rows, image.columns) != (k.height as usize, k.width as usize) {
+        return Err(Error::field(
+            "perceive",
+            flag,
+            format!(
+                "the image is {} wide and {} high, the camera's {} and {}",
+                image.columns, image.rows, k.width, k.height
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The camera from a TOML file (or JSON, by its extension).
+fn read_camera(path: &Path) -> Result<Camera> {
+    let name = path.display().to_string();
+    let text = json::read_text(path)?;
+    let camera: Camera = if path.extension().is_some_and(|e| e == "json") {
+        json::from_json(&text, &name)?
+    } else {
+        toml::from_str(&text).map_err(|e| Error::field(name, "toml", e.to_string()))?
+    };
+    camera.validate()?;
+    Ok(camera)
+}
+
+pub fn perceive(args: &PerceiveArgs) -> Result<()> {
+    let camera = read_camera(&args.camera)?;
+    let settings: PerceptionSettings = settings_or_default(args.settings.as_deref())?;
+    let prior: Option<Scene> = args.prior.as_deref().map(read_scene).transpose()?;
+    let state: Option<Scene> = args.state.as_deref().map(read_scene).transpose()?;
+    let (workspace, gripper) = match state.as_ref().or(prior.as_ref()) {
+        Some(s) => (s.workspace().clone(), s.gripper().clone()),
+        None => (Workspace::default(), Gripper::default()),
+    };
+    let depth = args.depth.as_deref().map(read_image).transpose()?;
+    let labels = args.labels.as_deref().map(read_image).transpose()?;
+    let depth = match &depth {
+        Some(image) => {
+            check_size(image, &camera, "--depth")?;
+            Some(match &image.values {
+                Values::Float(v) => Depth::Metres(v),
+                Values::Unsigned16(v) => Depth::Units(v),
+                Values::Integer(_) => {
+                    return Err(Error::field(
+                        "perceive",
+                        "--depth",
+                        "depth must be float32/float64 metres or uint16 units",
+                    ));
+                }
+            })
+        }
+        None => None,
+    };
+    let label_values: Option<Vec<u32>> = match &labels {
+        Some(image) => {
+            check_size(image, &camera, "--labels")?;
+            Some(match &image.values {
+                Values::Integer(v) => v.clone(),
+                Values::Unsigned16(v) => v.iter().map(|&l| u32::from(l)).collect(),
+                Values::Float(_) => {
+                    return Err(Error::field(
+                        "perceive",
+                        "--labels",
+                        "labels must be integers, one id per pixel, 0 for none",
+                    ));
+                }
+            })
+        }
+        None => None,
+    };
+    let frame = Frame {
+        depth,
+        labels: label_values.as_deref(),
+        heights: None,
+    };
+    let seen = look(
+        &frame,
+        &camera,
+        &workspace,
+        &gripper,
+        prior.as_ref(),
+        &settings,
+    )?;
+    if let Some(path) = &args.report {
+        json::write_text(path, &to_json(&seen.report()))?;
+    }
+    if let Some(path) = &args.overlay {
+        json::write_text(path, &overlay_svg(&seen, &camera))?;
+    }
+    eprintln!(
+        "{} objects, {} blobs, {} blocking, {} of the prior's objects gone",
+        seen.objects.len(),
+        seen.blobs.len(),
+        seen.blocking().len(),
+        seen.gone.len()
+    );
+    let scene = seen.scene()?;
+    write_output(args.output.as_deref(), &to_json(&scene))
+}
