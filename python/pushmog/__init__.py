@@ -19,6 +19,7 @@ from typing import Union
 from . import _native
 from ._errors import FileError, FormatError, PlanError, PushmogError, SceneError, SettingsError
 from ._plan import Grasp, JawPose, Plan, Push, TripPlan
+from ._perception import Camera, Perception, labels_from_masks, perceive, render_depth
 from ._planner import POLICIES, NoTrip, Planner, TripContext
 from ._scene import Object, Pose, Scene, builtin_object_set, generate_scene
 
@@ -26,6 +27,8 @@ __version__ = _native.version()
 
 __all__ = [
     "POLICIES",
+    "Camera",
+    "Perception",
     "FileError",
     "FormatError",
     "Grasp",
@@ -46,6 +49,9 @@ __all__ = [
     "builtin_object_set",
     "default_settings",
     "generate_scene",
+    "labels_from_masks",
+    "perceive",
+    "render_depth",
     "render_svg",
     "schema",
     "verify",
@@ -76,6 +82,8 @@ def schema(name: str) -> dict:
 
 
 def default_settings(name: str) -> dict:
-    """Default settings: ``"policy"`` (every planner setting) or ``"sim"`` (the physical parameters
-    of pushmog's rapier simulator: friction, masses, pad size, grip force, speeds, noise)."""
+    """Default settings: ``"policy"`` (every planner setting), ``"sim"`` (the physical parameters
+    of pushmog's rapier simulator: friction, masses, pad size, grip force, speeds, noise),
+    ``"perception"`` (the thresholds of :func:`perceive`) or ``"noise"`` (the test camera's depth
+    noise of :func:`render_depth`)."""
     return json.loads(_native.defaults(name))

@@ -22,6 +22,8 @@ use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+mod perception;
+
 /// An attribute of a Python exception.
 enum Attribute {
     Int(i64),
@@ -487,8 +489,10 @@ fn defaults(name: &str) -> PyResult<String> {
     match name {
         "policy" => Ok(to_json(&PolicySettings::default())),
         "sim" => Ok(to_json(&SimSettings::default())),
+        "perception" => Ok(to_json(&pushmog::perception::PerceptionSettings::default())),
+        "noise" => Ok(to_json(&pushmog::perception::DepthNoise::default())),
         _ => Err(settings_error(format!(
-            "unknown settings `{name}`; available: policy, sim"
+            "unknown settings `{name}`; available: policy, sim, perception, noise"
         ))),
     }
 }
@@ -513,5 +517,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(policies, module)?)?;
     module.add_function(wrap_pyfunction!(defaults, module)?)?;
     module.add_function(wrap_pyfunction!(version, module)?)?;
+    module.add_function(wrap_pyfunction!(perception::perceive, module)?)?;
+    module.add_function(wrap_pyfunction!(perception::render, module)?)?;
     Ok(())
 }

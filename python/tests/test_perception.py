@@ -1,0 +1,71 @@
+"""Perception from Python: numpy depth and labels to a scene, ids kept, bad input refused by name."""
+
+import numpy as np
+import pytest
+
+import pushmog
+
+CAMERA = pushmog.Camera.looking_down(640, 480, fov=1.1, x=0.3, y=0.225, above=0.7)
+
+
+def _centroid(vertices):
+    """The area centroid of a polygon, ``(k, 2)``."""
+    x, y = vertices[:, 0], vertices[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    area = cross.sum() / 2.0
+    return np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6.0 * area)
+
+
+def _worst_centroid_error(truth, seen):
+    """The largest distance from a true object's centroid to the nearest seen one, metres."""
+    found = np.array([_centroid(o.world_vertices()) for o in seen.objects])
+    return max(float(np.min(np.linalg.norm(found - _centroid(o.world_vertices()), axis=1))) for o in truth.objects)
+
+
+def test_a_noisy_depth_image_gives_every_object(scene):
+    depth, labels, ids = pushmog.render_depth(scene, CAMERA, noise=True, seed=3)
+    assert depth.shape == (480, 640) and depth.dtype == np.float32
+    assert sorted(set(np.unique(labels)) - {0}) == list(range(1, len(ids) + 1))
+    look = pushmog.perceive(depth, CAMERA, workspace=scene)
+    seen = look.scene()
+    assert len(seen) == len(scene)
+    assert look.blocking() == []
+    assert _worst_centroid_error(scene, seen) < 0.002
+    # The next look keeps the ids of the first.
+    again = pushmog.perceive(depth, CAMERA, prior=seen)
+    assert again.scene().ids == seen.ids
+    assert again.gone == []
+
+
+def test_uint16_depth_uses_the_camera_scale_and_a_wrong_scale_is_named(scene):
+    depth, _, _ = pushmog.render_depth(scene, CAMERA)
+    units = np.nan_to_num(depth / 0.00025).round().astype(np.uint16)
+    right = pushmog.Camera(**{**CAMERA.__dict__, "depth_scale": 0.00025})
+    assert len(pushmog.perceive(units, right, workspace=scene).scene()) == len(scene)
+    wrong = pushmog.Camera(**{**CAMERA.__dict__, "depth_scale": 0.001})
+    with pytest.raises(pushmog.SettingsError, match="L515"):
+        pushmog.perceive(units, wrong, workspace=scene)
+
+
+def test_masks_become_labels_and_labels_with_heights_need_no_depth(scene):
+    _, labels, ids = pushmog.render_depth(scene, CAMERA)
+    masks = [labels == k + 1 for k in range(len(ids))]
+    assert np.array_equal(pushmog.labels_from_masks(masks), labels)
+    assert np.array_equal(pushmog.labels_from_masks([{"segmentation": m} for m in masks]), labels)
+    heights = {k + 1: 0.03 for k in range(len(ids))}
+    look = pushmog.perceive(None, CAMERA, labels=labels, heights=heights, workspace=scene)
+    assert len(look.scene()) == len(scene)
+    overlapping = [masks[0], masks[0] | masks[1]]
+    with pytest.raises(pushmog.SettingsError, match="masks 0 and 1 overlap"):
+        pushmog.labels_from_masks(overlapping)
+
+
+def test_a_blocking_blob_is_listed_and_the_scene_refused(scene):
+    depth, _, _ = pushmog.render_depth(scene, CAMERA)
+    look = pushmog.perceive(depth, CAMERA, workspace=scene, settings={"max_height": 0.02})
+    assert {b["status"] for b in look.blobs} == {"too_tall"}
+    with pytest.raises(pushmog.SceneError, match="too_tall"):
+        look.scene()
+    with pytest.raises(pushmog.SettingsError, match="shape"):
+        pushmog.perceive(depth[:, 1:], CAMERA, workspace=scene)
