@@ -564,3 +564,45 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("extrinsics.rotation"));
 }
+
+#[test]
+fn a_label_given_too_low_a_height_overlaps_its_neighbour() {
+    // Two boxes touching flush, labelled, no depth. Given too low a top, the nearer box's image is
+    // back-projected too far from the camera's nadir: its footprint reaches about 5 mm into the
+    // farther box, more than the 2 mm that is cut apart.
+    let truth = boxes(0.04, 0.04, &[(0.06, 0.1), (0.1, 0.1)]);
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let look = |heights: &BTreeMap<u32, f64>| {
+        let frame = Frame {
+            depth: None,
+            labels: Some(&rendered.labels),
+            heights: Some(heights),
+        };
+        perceive(
+            &frame,
+            &camera,
+            truth.workspace(),
+            truth.gripper(),
+            None,
+            &PerceptionSettings::default(),
+        )
+        .unwrap()
+    };
+    let right = look(&[(1, 0.03), (2, 0.03)].into());
+    assert_eq!(
+        statuses(&right),
+        vec![BlobStatus::Object, BlobStatus::Object],
+        "{:?}",
+        right.adjustments
+    );
+    let wrong = look(&[(1, 0.03), (2, 0.005)].into());
+    assert_eq!(
+        statuses(&wrong),
+        vec![
+            BlobStatus::Object,
+            BlobStatus::Overlap { with: ObjectId(1) }
+        ]
+    );
+    assert!(wrong.scene().unwrap_err().to_string().contains("overlap"));
+}
