@@ -7,7 +7,8 @@
 //! (labels eroded by 2 pixels, with the depth), `touching` (each object's nearest neighbour slid
 //! against it, as a push leaves a pair; exact labels with the depth) or `bars` (the thin-bar set of
 //! `experiments/thin-bars.json`); `touching-depth` is `touching` without the labels.
-//! `PUSHMOG_FLYING`, `PUSHMOG_DROPPED` and `PUSHMOG_SIGMA` replace the noise's parameters.
+//! `PUSHMOG_FLYING`, `PUSHMOG_DROPPED` and `PUSHMOG_SIGMA` replace the noise's parameters;
+//! `PUSHMOG_PRIOR=1` gives the true scene as the prior, and the pose's yaw error is measured too.
 
 use std::collections::BTreeMap;
 
@@ -161,7 +162,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &camera,
             scene.workspace(),
             scene.gripper(),
-            None,
+            std::env::var("PUSHMOG_PRIOR").is_ok().then_some(&scene),
             &PerceptionSettings::default(),
         )?;
         rows.entry("perceive ms")
@@ -200,6 +201,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             rows.entry("yaw deg")
                 .or_default()
                 .push(best_yaw(truth, &print).0.abs().to_degrees());
+            if object.id == scene.objects()[k].id && std::env::var("PUSHMOG_PRIOR").is_ok() {
+                let turn =
+                    pushmog::geometry::wrap_angle(object.pose.yaw - scene.objects()[k].pose.yaw);
+                rows.entry("pose yaw deg")
+                    .or_default()
+                    .push(turn.abs().to_degrees());
+            }
             let d = min_grasp_diameter(&print).diameter - scene.min_grasp_diameter(k);
             rows.entry("d* error mm").or_default().push(d * 1e3);
             rows.entry("height mm")

@@ -143,6 +143,27 @@ fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
         }
         // The look is a valid scene.
         assert_eq!(seen.scene().unwrap().len(), truth.len());
+        // With the truth as the prior, every object keeps its id, name and frame: its yaw is the
+        // turn measured from the prior's.
+        let tracked = perceive(
+            &frame,
+            &camera,
+            truth.workspace(),
+            truth.gripper(),
+            Some(&truth),
+            &PerceptionSettings::default(),
+        )
+        .unwrap();
+        for object in &tracked.objects {
+            let before = &truth.objects()[truth.index_of(object.id).unwrap()];
+            assert_eq!(object.name, before.name);
+            let turn = pushmog::geometry::wrap_angle(object.pose.yaw - before.pose.yaw);
+            assert!(
+                turn.abs() < 5f64.to_radians(),
+                "object {}: {turn}",
+                object.id
+            );
+        }
     }
 }
 

@@ -12,12 +12,14 @@
 //!   an unoccluded convex prism, at any camera tilt (the two-plane theorem);
 //! - every blob gets a [`BlobStatus`]; those that block planning keep [`Perception::scene`] from
 //!   giving a scene, so nothing in view is dropped silently;
-//! - ids are kept by matching centroids to a prior scene (`track.rs`).
+//! - ids are kept by matching centroids to a prior scene (`track.rs`), and an object the prior holds
+//!   keeps the prior's frame, turned by the angle that fits its outline best (`align.rs`).
 //!
 //! [`render_depth`] and [`add_noise`] make frames of known scenes: test support, and a camera for
 //! the simulator. [`read_npy`] reads NumPy's `.npy` images; [`overlay_svg`] draws a look's blobs
 //! over its image.
 
+mod align;
 mod blob;
 mod blobs;
 mod camera;

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::{Point2, Point3, Vector2};
 
+use super::align::in_prior_frame;
 use super::blob::{Blob, Judged, above_cut, judge, position};
 use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
@@ -77,7 +78,7 @@ pub fn perceive(
     let mut prints: Vec<Option<ConvexPolygon>> = judged.into_iter().map(|j| j.footprint).collect();
     let gone = assign_ids(&mut reports, &prints, &blobs, prior, settings);
     separate(&mut reports, &mut prints, settings, &mut adjustments);
-    let objects = objects_of(&reports, &prints, workspace, &mut adjustments);
+    let objects = objects_of(&reports, &prints, workspace, prior, &mut adjustments);
     if table.points > 0 {
         adjustments.push(format!(
             "table fitted to {} points: {:+.1} mm at the workspace's centre, tilted {:.2}°, \
@@ -405,11 +406,13 @@ fn separate(
 }
 
 /// The objects of the blobs that have ids, each footprint trimmed to the workspace where it reaches
-/// past the edge by less than the trim (an adjustment).
+/// past the edge by less than the trim (an adjustment). An object the prior holds keeps the prior's
+/// frame, name and mass (`align.rs`); another is given its outline about its centroid, yaw 0.
 fn objects_of(
     reports: &[BlobReport],
     prints: &[Option<ConvexPolygon>],
     workspace: &Workspace,
+    prior: Option<&Scene>,
     adjustments: &mut Vec<String>,
 ) -> Vec<Object> {
     let mut objects = Vec::new();
@@ -433,15 +436,32 @@ fn objects_of(
         if (trimmed.area() - print.area()).abs() > 1e-12 {
             adjustments.push(format!("object {id}: trimmed to the workspace's edge"));
         }
-        let centre = trimmed.centroid();
-        objects.push(Object {
-            id,
-            name: None,
-            polygon: trimmed.translated(&-centre.coords),
-            pose: Pose::new(centre.x, centre.y, 0.0),
-            height: top,
-            mass: None,
-        });
+        let before = prior.and_then(|p| p.index_of(id).map(|k| &p.objects()[k]));
+        let object = match before {
+            Some(before) => {
+                let (pose, polygon) = in_prior_frame(&trimmed, before);
+                Object {
+                    id,
+                    name: before.name.clone(),
+                    polygon,
+                    pose,
+                    height: top,
+                    mass: before.mass,
+                }
+            }
+            None => {
+                let centre = trimmed.centroid();
+                Object {
+                    id,
+                    name: None,
+                    polygon: trimmed.translated(&-centre.coords),
+                    pose: Pose::new(centre.x, centre.y, 0.0),
+                    height: top,
+                    mass: None,
+                }
+            }
+        };
+        objects.push(object);
     }
     objects
 }
