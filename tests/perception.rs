@@ -410,6 +410,33 @@ fn labels_that_split_or_lack_depth_block() {
         statuses(&seen)
     );
     assert!(seen.scene().unwrap_err().to_string().contains("no_depth"));
+    // A labelled sheet 1 mm thick, below the cut, is too small to be an object, not an object
+    // 1 mm tall.
+    let mut sheet = rendered.depth.clone();
+    let mut labels = rendered.labels.clone();
+    for v in 190..210 {
+        for u in 310..330 {
+            labels[v * 640 + u] = 9;
+            sheet[v * 640 + u] -= 0.001;
+        }
+    }
+    let frame = Frame {
+        depth: Some(Depth::Metres(&sheet)),
+        labels: Some(&labels),
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    let patch = seen.blobs.iter().find(|b| b.label == Some(9)).unwrap();
+    assert_eq!(patch.status, BlobStatus::TooSmall, "{patch:?}");
+    assert_eq!(seen.scene().unwrap().len(), 3);
 }
 
 /// The error `perceive` gives for `frame` with `camera` on the table of `boxes`.

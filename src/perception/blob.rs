@@ -253,6 +253,10 @@ fn status(
     let Some(print) = print else {
         return BlobStatus::TooSmall;
     };
+    // A labelled patch with depth but nothing above the cut (a flat thing, or a label on the table).
+    if blob.given_height.is_none() && top <= settings.cut_height {
+        return BlobStatus::TooSmall;
+    }
     if print.area() < settings.min_area {
         return BlobStatus::TooSmall;
     }
