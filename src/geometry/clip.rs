@@ -105,16 +105,7 @@ pub fn intersection_over_union(first: &ConvexPolygon, second: &ConvexPolygon) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn square(x: f64, y: f64, side: f64) -> ConvexPolygon {
-        ConvexPolygon::new(vec![
-            Point2::new(x, y),
-            Point2::new(x + side, y),
-            Point2::new(x + side, y + side),
-            Point2::new(x, y + side),
-        ])
-        .unwrap()
-    }
+    use crate::geometry::polygon::square;
 
     #[test]
     fn overlapping_squares_share_the_quarter_the_geometry_gives() {

@@ -410,6 +410,13 @@ mod moment_tests {
     }
 }
 
+/// The axis-aligned square with lower-left corner `(x, y)` and the given side, for tests.
+#[cfg(test)]
+pub(crate) fn square(x: f64, y: f64, side: f64) -> ConvexPolygon {
+    let half = side / 2.0;
+    ConvexPolygon::rectangle(&Point2::new(x + half, y + half), &Vector2::x(), half, half)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

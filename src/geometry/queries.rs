@@ -65,16 +65,7 @@ pub fn point_distance(polygon: &ConvexPolygon, point: &Point2<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn square(x: f64, y: f64, side: f64) -> ConvexPolygon {
-        ConvexPolygon::new(vec![
-            Point2::new(x, y),
-            Point2::new(x + side, y),
-            Point2::new(x + side, y + side),
-            Point2::new(x, y + side),
-        ])
-        .unwrap()
-    }
+    use crate::geometry::polygon::square;
 
     #[test]
     fn distance_and_overlap_of_squares() {
