@@ -87,20 +87,50 @@ fn read_image(path: &Path) -> Result<Image> {
     })
 }
 
-/// Refuses an image whose size is not the camera's.
-fn check_size(image: &Image, camera: &Camera, flag: &str) -> Result<()> {
-    let k = &camera.intrinsics;
-    if (image.rows, image.columns) != (k.height as usize, k.width as usize) {
-        return Err(Error::field(
-            "perceive",
-            flag,
-            format!(
-                "the image is {} wide and {} high, the camera's {} and {}",
-                image.columns, image.rows, k.width, k.height
-            ),
-        ));
+impl Image {
+    /// The image at `path` (if given), refused unless its size is the camera's; `flag` names it.
+    fn read_for(path: Option<&Path>, camera: &Camera, flag: &str) -> Result<Option<Image>> {
+        let Some(path) = path else { return Ok(None) };
+        let image = read_image(path)?;
+        let k = &camera.intrinsics;
+        if (image.rows, image.columns) != (k.height as usize, k.width as usize) {
+            return Err(Error::field(
+                "perceive",
+                flag,
+                format!(
+                    "the image is {} wide and {} high, the camera's {} and {}",
+                    image.columns, image.rows, k.width, k.height
+                ),
+            ));
+        }
+        Ok(Some(image))
     }
-    Ok(())
+
+    /// The image as depth: float metres or 16-bit units.
+    fn depth(&self) -> Result<Depth<'_>> {
+        match &self.values {
+            Values::Float(v) => Ok(Depth::Metres(v)),
+            Values::Unsigned16(v) => Ok(Depth::Units(v)),
+            Values::Integer(_) => Err(Error::field(
+                "perceive",
+                "--depth",
+                "depth must be float32/float64 metres or uint16 units",
+            )),
+        }
+    }
+
+    /// The image as instance labels: integers, 0 for none.
+    fn labels(&self) -> Result<Vec<u32>> {
+        match &self.values {
+            Values::Integer(v) => Ok(v.clone()),
+            Values::Unsigned16(v) => Ok(v.iter().map(|&l| u32::from(l)).collect()),
+            Values::Float(_) => Err(Error::field(
+                "perceive",
+                "--labels",
+                "labels must be integers, one id per pixel, 0 for none",
+            )),
+        }
+    }
 }
 
 /// The camera from a TOML file (or JSON, by its extension).
@@ -125,44 +155,11 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         Some(s) => (s.workspace().clone(), s.gripper().clone()),
         None => (Workspace::default(), Gripper::default()),
     };
-    let depth = args.depth.as_deref().map(read_image).transpose()?;
-    let labels = args.labels.as_deref().map(read_image).transpose()?;
-    let depth = match &depth {
-        Some(image) => {
-            check_size(image, &camera, "--depth")?;
-            Some(match &image.values {
-                Values::Float(v) => Depth::Metres(v),
-                Values::Unsigned16(v) => Depth::Units(v),
-                Values::Integer(_) => {
-                    return Err(Error::field(
-                        "perceive",
-                        "--depth",
-                        "depth must be float32/float64 metres or uint16 units",
-                    ));
-                }
-            })
-        }
-        None => None,
-    };
-    let label_values: Option<Vec<u32>> = match &labels {
-        Some(image) => {
-            check_size(image, &camera, "--labels")?;
-            Some(match &image.values {
-                Values::Integer(v) => v.clone(),
-                Values::Unsigned16(v) => v.iter().map(|&l| u32::from(l)).collect(),
-                Values::Float(_) => {
-                    return Err(Error::field(
-                        "perceive",
-                        "--labels",
-                        "labels must be integers, one id per pixel, 0 for none",
-                    ));
-                }
-            })
-        }
-        None => None,
-    };
+    let depth = Image::read_for(args.depth.as_deref(), &camera, "--depth")?;
+    let labels = Image::read_for(args.labels.as_deref(), &camera, "--labels")?;
+    let label_values = labels.as_ref().map(Image::labels).transpose()?;
     let frame = Frame {
-        depth,
+        depth: depth.as_ref().map(Image::depth).transpose()?,
         labels: label_values.as_deref(),
         heights: None,
     };
