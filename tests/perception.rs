@@ -599,6 +599,58 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
                 .contains("<polygon")
         );
     }
+    // Labels as a 16-bit PNG with the tops' heights from a JSON file, no depth: the same three boxes.
+    let mut labels_png = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut labels_png, 640, 480);
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::Sixteen);
+        let mut writer = encoder.write_header().unwrap();
+        let data: Vec<u8> = rendered
+            .labels
+            .iter()
+            .flat_map(|&l| (l as u16).to_be_bytes())
+            .collect();
+        writer.write_image_data(&data).unwrap();
+    }
+    std::fs::write(dir.join("labels.png"), labels_png).unwrap();
+    std::fs::write(
+        dir.join("heights.json"),
+        r#"{"1": 0.03, "2": 0.03, "3": 0.03}"#,
+    )
+    .unwrap();
+    let out = pushmog(&[
+        "perceive",
+        "--camera",
+        &path("camera.toml"),
+        "--labels",
+        &path("labels.png"),
+        "--heights",
+        &path("heights.json"),
+        "--state",
+        &path("state.json"),
+        "-o",
+        &path("labelled.json"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let labelled = pushmog::json::scene_from_json(
+        &std::fs::read_to_string(dir.join("labelled.json")).unwrap(),
+        "labelled.json",
+    )
+    .unwrap();
+    assert_eq!(labelled.len(), 3);
+    for object in truth.objects() {
+        let (x, y) = (object.pose.x, object.pose.y);
+        let centre = labelled.centroid(nearest(&labelled, x, y));
+        assert!(
+            (centre - Point2::new(x, y)).norm() < 0.001,
+            "{centre} against ({x}, {y})"
+        );
+    }
     // A camera file that is not a rotation is refused, naming the field, with exit code 1.
     let bad = camera_toml(&camera, None).replace("rotation = [[1.0", "rotation = [[1.5");
     std::fs::write(dir.join("bad.toml"), bad).unwrap();

@@ -358,6 +358,10 @@ struct PerceiveArgs {
     /// Instance labels: `.npy` of integers or an 8/16-bit grey PNG, one id per pixel, 0 for none.
     #[arg(long)]
     labels: Option<PathBuf>,
+    /// Top heights above the table, metres, of labelled objects, for labels without depth: a JSON
+    /// object from label to height, e.g. `{"1": 0.03, "2": 0.045}`.
+    #[arg(long)]
+    heights: Option<PathBuf>,
     /// The scene expected: the last look, or better the scene predicted after the pushes; its ids
     /// are kept, and its workspace and gripper used unless `--state` is given.
     #[arg(long)]

@@ -1,5 +1,6 @@
 //! `perceive`: a depth image (and labels) from files to a scene file, a report and an overlay.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use pushmog::error::{Error, Result};
@@ -158,10 +159,17 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
     let depth = Image::read_for(args.depth.as_deref(), &camera, "--depth")?;
     let labels = Image::read_for(args.labels.as_deref(), &camera, "--labels")?;
     let label_values = labels.as_ref().map(Image::labels).transpose()?;
+    let heights: Option<BTreeMap<u32, f64>> = match args.heights.as_deref() {
+        Some(path) => Some(json::from_json(
+            &json::read_text(path)?,
+            &path.display().to_string(),
+        )?),
+        None => None,
+    };
     let frame = Frame {
         depth: depth.as_ref().map(Image::depth).transpose()?,
         labels: label_values.as_deref(),
-        heights: None,
+        heights: heights.as_ref(),
     };
     let seen = look(
         &frame,
