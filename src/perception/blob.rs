@@ -3,6 +3,7 @@
 
 use nalgebra::Point2;
 
+use super::blobs::four_neighbours;
 use super::camera::Camera;
 use super::footprint::{footprint, image_hull};
 use super::report::BlobStatus;
@@ -87,16 +88,7 @@ pub fn above_cut(heights: &[f64], i: usize, width: usize, cut: f64) -> bool {
     if heights[i].is_finite() {
         return heights[i] > cut;
     }
-    let (u, v) = (i % width, i / width);
-    let around = [
-        (u > 0).then(|| i - 1),
-        (u + 1 < width).then(|| i + 1),
-        (v > 0).then(|| i - width),
-        (i + width < heights.len()).then(|| i + width),
-    ];
-    around
-        .into_iter()
-        .flatten()
+    four_neighbours(i, width, heights.len() / width)
         .filter(|&j| heights[j] > cut)
         .count()
         >= 3

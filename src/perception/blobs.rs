@@ -14,6 +14,20 @@ pub struct Mask {
     pub set: Vec<bool>,
 }
 
+/// The 4-neighbours of pixel `i` in a row-major image `width` pixels wide and `height` rows high:
+/// left, right, above, below, each when inside the image.
+pub fn four_neighbours(i: usize, width: usize, height: usize) -> impl Iterator<Item = usize> {
+    let (u, v) = (i % width, i / width);
+    [
+        (u > 0).then(|| i - 1),
+        (u + 1 < width).then(|| i + 1),
+        (v > 0).then(|| i - width),
+        (v + 1 < height).then(|| i + width),
+    ]
+    .into_iter()
+    .flatten()
+}
+
 impl Mask {
     /// Whether pixel `(u, v)` is set; `false` outside the image.
     #[cfg(test)]
@@ -193,14 +207,7 @@ pub fn grow_labels(mask: &Mask, labels: &[u32]) -> Vec<u32> {
         }
     }
     while let Some(i) = queue.pop_front() {
-        let (u, v) = (i % width, i / width);
-        let neighbours = [
-            (u > 0).then(|| i - 1),
-            (u + 1 < width).then(|| i + 1),
-            (v > 0).then(|| i - width),
-            (v + 1 < mask.height).then(|| i + width),
-        ];
-        for j in neighbours.into_iter().flatten() {
+        for j in four_neighbours(i, width, mask.height) {
             if mask.set[j] && out[j] == 0 {
                 out[j] = out[i];
                 queue.push_back(j);

@@ -11,6 +11,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::blobs::four_neighbours;
 use crate::random::SeededRng;
 
 /// The noise of [`add_noise`].
@@ -55,13 +56,7 @@ pub fn add_noise(depth: &[f32], width: usize, noise: &DepthNoise, rng: &mut Seed
             let mut value = f64::from(z);
             // The neighbour across the largest jump, if that is an edge.
             let mut jump: Option<f64> = None;
-            let neighbours = [
-                (u > 0).then(|| i - 1),
-                (u + 1 < width).then(|| i + 1),
-                (v > 0).then(|| i - width),
-                (v + 1 < height).then(|| i + width),
-            ];
-            for n in neighbours.into_iter().flatten() {
+            for n in four_neighbours(i, width, height) {
                 let other = f64::from(depth[n]);
                 if other.is_finite()
                     && (other - value).abs() > noise.edge_jump
