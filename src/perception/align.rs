@@ -34,13 +34,19 @@ pub fn in_prior_frame(seen: &ConvexPolygon, prior: &Object) -> (Pose, ConvexPoly
     }
     // Golden-section search within a degree either side of the best grid point.
     let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
+    // Each step keeps one interior point and its fit, and evaluates one new point.
     let (mut low, mut high) = (best.0 - 1f64.to_radians(), best.0 + 1f64.to_radians());
+    let (mut a, mut b) = (high - ratio * (high - low), low + ratio * (high - low));
+    let (mut fit_a, mut fit_b) = (fit(a), fit(b));
     while high - low > 0.01_f64.to_radians() {
-        let (a, b) = (high - ratio * (high - low), low + ratio * (high - low));
-        if fit(a) > fit(b) {
-            high = b;
+        if fit_a > fit_b {
+            (high, b, fit_b) = (b, a, fit_a);
+            a = high - ratio * (high - low);
+            fit_a = fit(a);
         } else {
-            low = a;
+            (low, a, fit_a) = (a, b, fit_b);
+            b = low + ratio * (high - low);
+            fit_b = fit(b);
         }
     }
     let turn = 0.5 * (low + high);
