@@ -196,8 +196,14 @@ pub fn judge(
     };
     let hull = image_hull(&pixels, width);
     let solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
+    // A top measured from depth at or below the cut height (a flat thing, or a label lying on the
+    // table) stands on nothing the mask holds: no footprint, so the blob is too small.
+    let lowest_top = match blob.given_height {
+        Some(_) => cut,
+        None => cut.max(settings.cut_height),
+    };
     let print = match (&hull, top) {
-        (Some(hull), Some(top)) if top > cut => footprint(hull, camera, table, top, cut),
+        (Some(hull), Some(top)) if top > lowest_top => footprint(hull, camera, table, top, cut),
         _ => None,
     };
     let measured = Measured {
@@ -245,10 +251,6 @@ fn status(
     let Some(print) = print else {
         return BlobStatus::TooSmall;
     };
-    // A labelled patch with depth but nothing above the cut (a flat thing, or a label on the table).
-    if blob.given_height.is_none() && top <= settings.cut_height {
-        return BlobStatus::TooSmall;
-    }
     if print.area() < settings.min_area {
         return BlobStatus::TooSmall;
     }
