@@ -1,5 +1,6 @@
-//! The shape of the code: dependencies between the crate's top-level modules point one way, and so do
-//! the dependencies between the submodules of each of them.
+//! The shape of the code: dependencies between the crate's top-level modules point one way, down a
+//! declared order of layers, and the dependencies between the submodules of each of them point one
+//! way too.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -87,8 +88,29 @@ fn stem(path: &Path) -> String {
     path.file_stem().unwrap().to_string_lossy().to_string()
 }
 
-#[test]
-fn the_module_graph_has_no_cycles() {
+/// The crate's top-level modules from the bottom up: a module may use only the modules of the
+/// layers below its own. Foundations; plane geometry and errors; the table; what prices and stores
+/// it; the shared problem and the camera's view of the table; the planning stages (grasps and
+/// riders, pushes, clusters); the plan and its verifier; the executors that carry a plan out; the
+/// policy that plans trip by trip and the pictures; the experiments; the file formats' schemas.
+const LAYERS: &[&[&str]] = &[
+    &["id", "outcome", "random", "stats"],
+    &["error", "geometry"],
+    &["scene"],
+    &["json", "time_model"],
+    &["perception", "problem"],
+    &["grasp", "stack"],
+    &["push"],
+    &["cluster"],
+    &["plan"],
+    &["exec"],
+    &["policy", "render"],
+    &["experiment"],
+    &["schema"],
+];
+
+/// The top-level modules and the modules each one names.
+fn module_graph() -> Graph {
     let mut graph = Graph::new();
     for entry in std::fs::read_dir(src()).unwrap() {
         let path = entry.unwrap().path();
@@ -101,8 +123,47 @@ fn the_module_graph_has_no_cycles() {
         found.remove(&name);
         graph.insert(name, found);
     }
+    graph
+}
+
+#[test]
+fn the_module_graph_has_no_cycles() {
+    let graph = module_graph();
     assert!(graph.len() > 10, "{graph:?}");
     assert_acyclic(&graph, "the crate");
+}
+
+/// Panics naming the first module of `graph` that is in no layer, or that uses a module of its own
+/// layer or of one above.
+fn assert_layered(graph: &Graph, layers: &[&[&str]]) {
+    let layer_of = |name: &str| layers.iter().position(|layer| layer.contains(&name));
+    for (module, used) in graph {
+        let Some(own) = layer_of(module) else {
+            panic!("{module} is in no layer: place it in LAYERS (tests/architecture.rs)");
+        };
+        for other in used.iter().filter(|n| graph.contains_key(*n)) {
+            let theirs = layer_of(other).unwrap_or(usize::MAX);
+            assert!(
+                theirs < own,
+                "{module} uses {other}, which is not in a layer below it"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_module_uses_only_the_layers_below_it() {
+    assert_layered(&module_graph(), LAYERS);
+}
+
+/// The layer check finds a use that points up.
+#[test]
+#[should_panic(expected = "scene uses policy, which is not in a layer below it")]
+fn a_use_that_points_up_is_found() {
+    let mut graph = Graph::new();
+    graph.insert("scene".into(), ["policy".to_string()].into());
+    graph.insert("policy".into(), ["scene".to_string()].into());
+    assert_layered(&graph, LAYERS);
 }
 
 /// The siblings a file of the module `top` names: `crate::top::x`, and `super::x` from a file of
