@@ -9,7 +9,8 @@ use crate::stats::{mean, mean_std, t_95};
 mod csv_lines;
 pub(super) mod table;
 
-use table::{Cell, Column, Table, tex};
+use table::tex;
+pub use table::{Cell, Column, Table};
 
 pub use csv_lines::{results_csv, timing_csv};
 

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 /// One column.
 #[derive(Clone, Debug)]
-pub(in crate::experiment) struct Column {
+pub struct Column {
     /// The Markdown heading.
     pub markdown: &'static str,
     /// Right-aligned in Markdown (`---:`), else `---`.
@@ -52,7 +52,7 @@ impl Column {
 
 /// One cell's value.
 #[derive(Clone, Debug)]
-pub(in crate::experiment) enum Cell {
+pub enum Cell {
     /// Text as it is (LaTeX escapes `_`, `%` and `&`).
     Text(String),
     /// A number with the column's decimals.
@@ -67,14 +67,26 @@ pub(in crate::experiment) enum Cell {
 
 /// A table: columns and rows of cells, one per column.
 #[derive(Clone, Debug, Default)]
-pub(in crate::experiment) struct Table {
+pub struct Table {
+    /// The columns, left to right.
     pub columns: Vec<Column>,
+    /// The rows, each a cell per column.
     pub rows: Vec<Vec<Cell>>,
 }
 
 impl Table {
     /// The Markdown table: heading, rule and rows, each line ending in a newline.
     pub fn markdown(&self) -> String {
+        let mut out = self.markdown_head();
+        for row in &self.rows {
+            out.push_str(&self.markdown_row(row));
+        }
+        out
+    }
+
+    /// The Markdown heading and rule, each line ending in a newline: with
+    /// [`markdown_row`](Self::markdown_row), a table printed row by row as its rows come.
+    pub fn markdown_head(&self) -> String {
         let mut out = String::from("|");
         for column in &self.columns {
             let _ = write!(out, " {} |", column.markdown);
@@ -84,13 +96,16 @@ impl Table {
             out.push_str(if column.right { "---:|" } else { "---|" });
         }
         out.push('\n');
-        for row in &self.rows {
-            out.push('|');
-            for (cell, column) in row.iter().zip(&self.columns) {
-                let _ = write!(out, " {} |", markdown_cell(cell, column.decimals));
-            }
-            out.push('\n');
+        out
+    }
+
+    /// One row of cells (one per column) as a Markdown line ending in a newline.
+    pub fn markdown_row(&self, row: &[Cell]) -> String {
+        let mut out = String::from("|");
+        for (cell, column) in row.iter().zip(&self.columns) {
+            let _ = write!(out, " {} |", markdown_cell(cell, column.decimals));
         }
+        out.push('\n');
         out
     }
 

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use pushmog::error::Result;
+use pushmog::experiment::tables::{Cell, Column, Table};
 use pushmog::json::{self, to_json};
 use pushmog::plan::verify as verify_plan;
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
@@ -114,24 +115,38 @@ pub fn demo(out: &Path, seed: u64) -> Result<()> {
         check_report(&scene, &scene_path.display().to_string())
     );
     println!("\nclearing it with each policy (ideal executor, seed {seed}):\n");
-    println!("| policy | trips | objects per trip | pushes | push distance (m) | verified |");
-    println!("|---|---:|---:|---:|---:|---|");
+    // Each policy's row is printed as soon as it has cleared the scene: the command's progress.
+    let table = Table {
+        columns: vec![
+            Column::markdown("policy", 0).left(),
+            Column::markdown("trips", 0),
+            Column::markdown("objects per trip", 3),
+            Column::markdown("pushes", 0),
+            Column::markdown("push distance (m)", 3),
+            Column::markdown("verified", 0).left(),
+        ],
+        rows: Vec::new(),
+    };
+    print!("{}", table.markdown_head());
     let mut written = Vec::new();
     for kind in PolicyKind::ALL {
         let policy = Policy::new(kind, PolicySettings::default())?;
         let plan = policy.run(&scene, &mut policy.ideal(), seed)?;
         let violations = verify_plan(&plan).len();
-        println!(
-            "| {kind} | {} | {:.3} | {} | {:.3} | {} |",
-            plan.trips.len(),
-            plan.objects_per_trip(),
-            plan.push_count(),
-            plan.push_distance(),
-            if violations == 0 {
-                "yes".to_string()
-            } else {
-                format!("NO ({violations} violations)")
-            }
+        print!(
+            "{}",
+            table.markdown_row(&[
+                Cell::Text(kind.to_string()),
+                Cell::Number(plan.trips.len() as f64),
+                Cell::Number(plan.objects_per_trip()),
+                Cell::Number(plan.push_count() as f64),
+                Cell::Number(plan.push_distance()),
+                Cell::Text(if violations == 0 {
+                    "yes".to_string()
+                } else {
+                    format!("NO ({violations} violations)")
+                }),
+            ])
         );
         if kind == PolicyKind::PushMog {
             let plan_path = out.join("plan.json");
