@@ -166,13 +166,13 @@ fn a_use_that_points_up_is_found() {
     assert_layered(&graph, LAYERS);
 }
 
-/// The siblings a file of the module `top` names: `crate::top::x`, and `super::x` from a file of
-/// `top` itself, `super::super::x` from a file one folder further down (or `super::x` from its
-/// `mod.rs`), and so on.
-fn sibling_uses(path: &Path, top: &str, depth: usize, found: &mut BTreeSet<String>) {
+/// The siblings a file of the module `module` (a path such as `exec::sim`) names:
+/// `crate::<module>::x`, and `super::x` from a file of `module` itself, `super::super::x` from a
+/// file one folder further down (or `super::x` from its `mod.rs`), and so on.
+fn sibling_uses(path: &Path, module: &str, depth: usize, found: &mut BTreeSet<String>) {
     if path.is_dir() {
         for entry in std::fs::read_dir(path).unwrap() {
-            sibling_uses(&entry.unwrap().path(), top, depth + 1, found);
+            sibling_uses(&entry.unwrap().path(), module, depth + 1, found);
         }
     } else if path.extension().is_some_and(|e| e == "rs") {
         let text = std::fs::read_to_string(path).unwrap();
@@ -182,12 +182,36 @@ fn sibling_uses(path: &Path, top: &str, depth: usize, found: &mut BTreeSet<Strin
             depth
         };
         names_after(&text, &"super::".repeat(levels), found);
-        names_after(&text, &format!("crate::{top}::"), found);
+        names_after(&text, &format!("crate::{module}::"), found);
     }
 }
 
-/// Within every top-level module, its submodules (files and folders beside its `mod.rs`, which
-/// re-exports them and is left out) depend on each other one way too.
+/// Panics naming a cycle among the submodules of the module in folder `dir` (named `module`,
+/// a path such as `exec::sim`), then checks each of its folders the same way; returns how many
+/// submodules were checked.
+fn check_submodules(dir: &Path, module: &str) -> usize {
+    let mut graph = Graph::new();
+    let mut checked = 0;
+    for child in std::fs::read_dir(dir).unwrap() {
+        let path = child.unwrap().path();
+        let name = stem(&path);
+        if name == "mod" {
+            continue;
+        }
+        let mut found = BTreeSet::new();
+        sibling_uses(&path, module, 1, &mut found);
+        found.remove(&name);
+        graph.insert(name.clone(), found);
+        if path.is_dir() {
+            checked += check_submodules(&path, &format!("{module}::{name}"));
+        }
+    }
+    assert_acyclic(&graph, &format!("src/{}/", module.replace("::", "/")));
+    checked + graph.len()
+}
+
+/// Within every module with a folder, at any depth, its submodules (files and folders beside its
+/// `mod.rs`, which re-exports them and is left out) depend on each other one way too.
 #[test]
 fn no_module_has_a_cycle_among_its_submodules() {
     let mut checked = 0;
@@ -197,20 +221,7 @@ fn no_module_has_a_cycle_among_its_submodules() {
         if !dir.is_dir() || top == "bin" {
             continue;
         }
-        let mut graph = Graph::new();
-        for child in std::fs::read_dir(&dir).unwrap() {
-            let path = child.unwrap().path();
-            let name = stem(&path);
-            if name == "mod" {
-                continue;
-            }
-            let mut found = BTreeSet::new();
-            sibling_uses(&path, &top, 1, &mut found);
-            found.remove(&name);
-            graph.insert(name, found);
-        }
-        checked += graph.len();
-        assert_acyclic(&graph, &format!("src/{top}/"));
+        checked += check_submodules(&dir, &top);
     }
     assert!(checked > 50, "{checked} submodules");
 }
