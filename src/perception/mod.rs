@@ -41,7 +41,7 @@ pub use noise::{DepthNoise, add_noise};
 pub use npy::{Npy, NpyData, read_npy, write_npy_f32};
 pub use overlay::overlay_svg;
 pub use perceive::perceive;
-pub use render::{Rendered, render_depth};
+pub use render::{Rendered, Solid, render_depth, render_solids};
 pub use report::{BlobReport, BlobStatus, Perception, PerceptionReport};
 pub use settings::PerceptionSettings;
 pub use table::TablePlane;
