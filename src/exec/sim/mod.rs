@@ -25,6 +25,7 @@
 //!   interpenetrating objects).
 
 mod base;
+mod camera;
 mod observe;
 mod place;
 mod prism;
@@ -51,6 +52,7 @@ pub use rollout::Rollout;
 
 /// A rider whose base is this high above the table still stands on something, metres.
 const RIDING: f64 = 0.005;
+pub use camera::SimCamera;
 pub use settings::{FingerDrive, SimSettings};
 
 /// Where an action's stage was set: the jaws' centre and the end of its path, with actuation
@@ -424,7 +426,10 @@ impl Executor for Sim {
 
     /// As [`Sim::observation`] (`observe.rs`).
     fn observe(&mut self) -> Result<Scene> {
-        self.observation()
+        match self.settings.camera.clone() {
+            Some(camera) => self.camera_observation(&camera),
+            None => self.observation(),
+        }
     }
 
     fn lost(&self) -> Vec<(ObjectId, &'static str)> {

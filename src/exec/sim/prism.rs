@@ -4,6 +4,7 @@
 use rapier3d_f64::math::{Rotation, Vector};
 
 use crate::geometry::ConvexPolygon;
+use crate::perception::Solid;
 use crate::scene::{ObjectId, Pose as PlanarPose};
 
 /// One object as the simulator knows it: its prism and its full spatial pose.
@@ -68,6 +69,23 @@ impl Prism {
         let centre = footprint.centroid();
         let local = footprint.translated(&-centre.coords);
         Some((local, PlanarPose::new(centre.x, centre.y, 0.0), high - low))
+    }
+
+    /// The prism as a convex solid where it stands now, for the camera's rendering.
+    pub fn solid(&self) -> Solid {
+        let axis = |v: Vector| {
+            let turned = self.rotation * v;
+            nalgebra::Vector3::new(turned.x, turned.y, turned.z)
+        };
+        let rotation =
+            nalgebra::Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[
+                axis(Vector::X),
+                axis(Vector::Y),
+                axis(Vector::Z),
+            ]));
+        let t = self.translation;
+        let translation = nalgebra::Vector3::new(t.x, t.y, t.z);
+        Solid::moved_prism(self.id, &self.polygon, self.height, &rotation, &translation)
     }
 
     pub(super) fn points(&self) -> Vec<Vector> {

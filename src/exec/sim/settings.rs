@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::SimCamera;
 use crate::error::Result;
 
 /// How the two fingers are driven.
@@ -102,6 +103,10 @@ pub struct SimSettings {
     pub actuation_yaw: f64,
     /// Objects tilted more than this from upright count as toppled, radians. Default 0.35 (20°).
     pub topple_angle: f64,
+    /// An overhead depth camera whose frames are perceived at each look (`camera.rs`). Default
+    /// none: each object's pose is reported with the noise above.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera: Option<SimCamera>,
 }
 
 impl Default for SimSettings {
@@ -134,6 +139,7 @@ impl Default for SimSettings {
             actuation_position: 0.001,
             actuation_yaw: 0.0175,
             topple_angle: 0.35,
+            camera: None,
         }
     }
 }
@@ -169,7 +175,7 @@ impl SimSettings {
         for (field, value, range, why) in checks.into_iter().flatten() {
             crate::error::in_range("sim", field, value, range, why)?;
         }
-        Ok(())
+        self.camera.as_ref().map_or(Ok(()), SimCamera::validate)
     }
 
     /// Friction, density and the fingers' build: field, value, range and why.
