@@ -594,3 +594,25 @@ fn closed_loops_that_see_through_the_depth_camera_write_plans_that_verify() {
         }
     }
 }
+
+/// The camera's settings are checked by field, and the noise-free settings silence its depth noise.
+#[test]
+fn camera_settings_are_checked_and_noiseless_silences_the_depth_noise() {
+    use pushmog::exec::SimCamera;
+    let with_camera = |camera: SimCamera| SimSettings {
+        camera: Some(camera),
+        ..SimSettings::default()
+    };
+    let coarse = with_camera(SimCamera {
+        pixel: 0.0,
+        ..SimCamera::default()
+    });
+    let refusal = Sim::new(coarse, 1).err().expect("a zero pixel is refused");
+    assert!(refusal.to_string().contains("camera.pixel"), "{refusal}");
+    let quiet = SimSettings::noiseless_from(&with_camera(SimCamera::default()));
+    let noise = quiet.camera.expect("the camera stays").noise;
+    assert_eq!(
+        (noise.sigma_per_square_metre, noise.dropped, noise.flying),
+        (0.0, 0.0, 0.0)
+    );
+}

@@ -150,13 +150,22 @@ impl SimSettings {
         Self::noiseless_from(&Self::default())
     }
 
-    /// `settings` with every noise set to zero.
+    /// `settings` with every noise set to zero (the camera's depth noise too, if there is a camera).
     pub fn noiseless_from(settings: &Self) -> Self {
         Self {
             perception_position: 0.0,
             perception_yaw: 0.0,
             actuation_position: 0.0,
             actuation_yaw: 0.0,
+            camera: settings.camera.clone().map(|camera| SimCamera {
+                noise: crate::perception::DepthNoise {
+                    sigma_per_square_metre: 0.0,
+                    dropped: 0.0,
+                    flying: 0.0,
+                    ..camera.noise
+                },
+                ..camera
+            }),
             ..settings.clone()
         }
     }
