@@ -532,6 +532,25 @@ fn camera_toml(camera: &Camera, scale: Option<f64>) -> String {
     )
 }
 
+/// The scene file at `path`.
+fn read_scene(path: &std::path::Path) -> Scene {
+    let text = std::fs::read_to_string(path).unwrap();
+    pushmog::json::scene_from_json(&text, &path.display().to_string()).unwrap()
+}
+
+/// A 16-bit grey PNG of `values`, row-major.
+fn grey_png(values: impl Iterator<Item = u16>, width: u32, height: u32) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Sixteen);
+    let mut writer = encoder.write_header().unwrap();
+    let data: Vec<u8> = values.flat_map(u16::to_be_bytes).collect();
+    writer.write_image_data(&data).unwrap();
+    writer.finish().unwrap();
+    bytes
+}
+
 #[test]
 fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay() {
     use crate::support::{pushmog, scratch};
@@ -547,20 +566,11 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
     )
     .unwrap();
     // The same depth as a 16-bit PNG in 0.1 mm units (a RealSense D405's).
-    let mut png_bytes = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut png_bytes, 640, 480);
-        encoder.set_color(png::ColorType::Grayscale);
-        encoder.set_depth(png::BitDepth::Sixteen);
-        let mut writer = encoder.write_header().unwrap();
-        let data: Vec<u8> = rendered
-            .depth
-            .iter()
-            .flat_map(|&z| ((f64::from(z) / 0.0001).round() as u16).to_be_bytes())
-            .collect();
-        writer.write_image_data(&data).unwrap();
-    }
-    std::fs::write(dir.join("depth.png"), png_bytes).unwrap();
+    let units = rendered
+        .depth
+        .iter()
+        .map(|&z| (f64::from(z) / 0.0001).round() as u16);
+    std::fs::write(dir.join("depth.png"), grey_png(units, 640, 480)).unwrap();
     let path = |name: &str| dir.join(name).display().to_string();
     for depth in ["depth.npy", "depth.png"] {
         let out = pushmog(&[
@@ -583,11 +593,7 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let scene = pushmog::json::scene_from_json(
-            &std::fs::read_to_string(dir.join("scene.json")).unwrap(),
-            "scene.json",
-        )
-        .unwrap();
+        let scene = read_scene(&dir.join("scene.json"));
         assert_eq!(scene.len(), 3, "{depth}");
         let report: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
@@ -600,20 +606,8 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
         );
     }
     // Labels as a 16-bit PNG with the tops' heights from a JSON file, no depth: the same three boxes.
-    let mut labels_png = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut labels_png, 640, 480);
-        encoder.set_color(png::ColorType::Grayscale);
-        encoder.set_depth(png::BitDepth::Sixteen);
-        let mut writer = encoder.write_header().unwrap();
-        let data: Vec<u8> = rendered
-            .labels
-            .iter()
-            .flat_map(|&l| (l as u16).to_be_bytes())
-            .collect();
-        writer.write_image_data(&data).unwrap();
-    }
-    std::fs::write(dir.join("labels.png"), labels_png).unwrap();
+    let labels = rendered.labels.iter().map(|&l| l as u16);
+    std::fs::write(dir.join("labels.png"), grey_png(labels, 640, 480)).unwrap();
     std::fs::write(
         dir.join("heights.json"),
         r#"{"1": 0.03, "2": 0.03, "3": 0.03}"#,
@@ -637,11 +631,7 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let labelled = pushmog::json::scene_from_json(
-        &std::fs::read_to_string(dir.join("labelled.json")).unwrap(),
-        "labelled.json",
-    )
-    .unwrap();
+    let labelled = read_scene(&dir.join("labelled.json"));
     assert_eq!(labelled.len(), 3);
     for object in truth.objects() {
         let (x, y) = (object.pose.x, object.pose.y);
