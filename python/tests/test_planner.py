@@ -137,6 +137,13 @@ def test_simulated_run_is_reproducible_and_verified(small_scene):
     assert sum(first.carried_per_trip()) == first.objects_carried()
 
 
+def test_a_simulated_run_can_look_through_the_depth_camera(small_scene):
+    # Each look renders the table, adds depth noise and perceives it; the plan still verifies.
+    plan = pushmog.Planner("push-mog").run(small_scene, executor="sim", seed=4, sim_settings={"camera": {}})
+    assert pushmog.verify(plan) == []
+    assert plan.objects_carried() == len(small_scene)
+
+
 def test_verifier_finds_a_tampered_plan(small_scene):
     plan = pushmog.Planner("push-mog").run(small_scene, seed=1).to_dict()
     plan["trips"][0]["grasp"]["objects"] = [9999]
