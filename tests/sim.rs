@@ -607,7 +607,9 @@ fn camera_settings_are_checked_and_noiseless_silences_the_depth_noise() {
         pixel: 0.0,
         ..SimCamera::default()
     });
-    let refusal = Sim::new(coarse, 1).err().expect("a zero pixel is refused");
+    let Err(refusal) = Sim::new(coarse, 1) else {
+        panic!("a zero pixel is refused")
+    };
     assert!(refusal.to_string().contains("camera.pixel"), "{refusal}");
     let quiet = SimSettings::noiseless_from(&with_camera(SimCamera::default()));
     let noise = quiet.camera.expect("the camera stays").noise;

@@ -6,15 +6,18 @@ use std::process::Output;
 
 use nalgebra::{Rotation3, Vector3};
 use pushmog::error::Error;
+use pushmog::exec::SimCamera;
+use pushmog::exec::ur5::DepthLook;
 use pushmog::exec::ur5::fake::{ControllerFaults, FakeController, FakeGripper, GripperFaults};
 use pushmog::exec::ur5::{
     Action, Calibration, Correspondence, DryRun, Live, Observation, Phase, RobotConfig, StepRunner,
     Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
 };
+use pushmog::perception::{PerceptionSettings, render_depth, write_npy_f32, write_npy_u32};
 use pushmog::plan::Plan;
 use pushmog::policy::{Policy, PolicyKind, PolicySettings, grasp_path, push_paths, rider_paths};
 use pushmog::random::SeededRng;
-use pushmog::scene::SceneSpec;
+use pushmog::scene::{Scene, SceneSpec};
 use pushmog::time_model::{Command, TimeModel};
 
 use crate::support::{fixture, pushmog, scratch};
@@ -611,6 +614,126 @@ fn the_closed_loop_replans_on_each_observation() {
     assert_eq!(step_kinds(robot.runner().steps()), charged);
     let looks: usize = run.trips.iter().map(|t| t.looks.len()).sum();
     assert!(looks > 0 && charged.contains('T'), "looks and blends");
+}
+
+/// The tables an ideal run of push-mog on the fixture scene saw, rendered as depth and labels by a
+/// camera over the workspace and handed out one per look by a shell command (as a camera driver
+/// would write them): the look, the ideal run and its policy.
+fn camera_replay(name: &str) -> (DepthLook, Plan, Policy) {
+    let (_, reference, policy) = replayed_observations(&format!("{name}-scenes"));
+    let dir = scratch(name);
+    let first = Scene::try_from(reference.trips[0].scene.to_spec()).unwrap();
+    let camera = SimCamera::default().over(first.workspace());
+    let (width, height) = (
+        camera.intrinsics.width as usize,
+        camera.intrinsics.height as usize,
+    );
+    let mut tables: Vec<Scene> = reference
+        .trips
+        .iter()
+        .flat_map(|t| std::iter::once(&t.scene).chain(t.looks.iter().map(|l| &l.scene)))
+        .map(|scene| Scene::try_from(scene.to_spec()).unwrap())
+        .collect();
+    tables.push(first.with_objects(Vec::new()).unwrap());
+    for (k, table) in tables.iter().enumerate() {
+        let frame = render_depth(table, &camera).unwrap();
+        let write = |file: String, bytes: Vec<u8>| std::fs::write(dir.join(file), bytes).unwrap();
+        write(
+            format!("depth-{k}.npy"),
+            write_npy_f32(&frame.depth, height, width),
+        );
+        write(
+            format!("labels-{k}.npy"),
+            write_npy_u32(&frame.labels, height, width),
+        );
+    }
+    std::fs::write(dir.join("count"), "0").unwrap();
+    let command = format!(
+        "cd '{}' && n=$(cat count) && echo $((n + 1)) > count && \
+         cp depth-$n.npy \"$PUSHMOG_DEPTH\" && cp labels-$n.npy \"$PUSHMOG_LABELS\"",
+        dir.display()
+    );
+    let look = DepthLook {
+        camera,
+        command,
+        table: first,
+        settings: PerceptionSettings::default(),
+    };
+    (look, reference, policy)
+}
+
+/// The closed loop looking through a depth camera (`camera_replay`), each look perceived with the
+/// last table moved by the pushes since as the prior: the robot's trips take the same objects as
+/// the ideal run's, every object keeps its id, and the table is cleared. Without the prior, ids
+/// change after pushes and the trips no longer match.
+#[test]
+fn the_closed_loop_sees_through_a_depth_camera_and_keeps_the_ids() {
+    let (look, reference, policy) = camera_replay("ur5-camera");
+    let first = look.table.clone();
+    let observation = Observation::Camera(Box::new(look));
+    // The first look has no prior: the ids are the labels, one object per object.
+    assert_eq!(observation.read().unwrap().len(), first.len());
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let mut robot = Ur5::new(live_runner(&config), observation);
+    let run = policy.run(&first, &mut robot, 5).unwrap();
+    assert_eq!(run.status, pushmog::plan::RunStatus::Cleared);
+    assert_eq!(run.trips.len(), reference.trips.len());
+    let sorted = |ids: &mut dyn Iterator<Item = pushmog::scene::ObjectId>| {
+        let mut ids: Vec<_> = ids.collect();
+        ids.sort_unstable();
+        ids
+    };
+    for (a, b) in run.trips.iter().zip(&reference.trips) {
+        assert_eq!(sorted(&mut a.scene.ids()), sorted(&mut b.scene.ids()));
+        assert_eq!(a.plan.grasp.objects, b.plan.grasp.objects);
+        assert_eq!(
+            sorted(&mut a.carried.iter().copied()),
+            sorted(&mut b.carried.iter().copied())
+        );
+    }
+}
+
+/// `pushmog execute --camera … --state … --observe-command …` runs the same closed loop.
+#[test]
+fn the_cli_runs_a_closed_loop_through_a_depth_camera() {
+    let (look, reference, _) = camera_replay("ur5-cli-camera");
+    let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
+    let config = config_for(&controller, &gripper);
+    let dir = scratch("ur5-cli-camera-out");
+    let path = |name: &str| dir.join(name).display().to_string();
+    std::fs::write(path("robot.toml"), toml::to_string(&config).unwrap()).unwrap();
+    std::fs::write(path("camera.toml"), toml::to_string(&look.camera).unwrap()).unwrap();
+    std::fs::write(path("state.json"), pushmog::json::to_json(&look.table)).unwrap();
+    let out = pushmog(&[
+        "execute",
+        "--robot",
+        &path("robot.toml"),
+        "--camera",
+        &path("camera.toml"),
+        "--state",
+        &path("state.json"),
+        "--observe-command",
+        &look.command,
+        "--seed",
+        "5",
+        "--execute",
+        "--out",
+        &path("out"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("status            cleared"), "{stdout}");
+    let run: Plan = pushmog::json::from_json(
+        &std::fs::read_to_string(dir.join("out/run.json")).unwrap(),
+        "run",
+    )
+    .unwrap();
+    assert_eq!(run.trips.len(), reference.trips.len());
 }
 
 #[test]

@@ -38,7 +38,7 @@ mod track;
 pub use camera::{Camera, DepthUnits, Extrinsics, Intrinsics, KNOWN_SCALES, MAX_CAMERA_TILT};
 pub use input::{Depth, Frame};
 pub use noise::{DepthNoise, add_noise};
-pub use npy::{Npy, NpyData, read_npy, write_npy_f32};
+pub use npy::{Npy, NpyData, read_npy, write_npy_f32, write_npy_u32};
 pub use overlay::overlay_svg;
 pub use perceive::perceive;
 pub use render::{Rendered, Solid, render_depth, render_solids};

@@ -155,8 +155,28 @@ pub fn read_npy(bytes: &[u8], source: &str) -> Result<Npy> {
 /// The bytes of a `.npy` file (version 1) holding `values` as a `rows × columns` array of
 /// little-endian `float32`.
 pub fn write_npy_f32(values: &[f32], rows: usize, columns: usize) -> Vec<u8> {
+    npy_bytes(
+        "<f4",
+        rows,
+        columns,
+        values.iter().flat_map(|v| v.to_le_bytes()),
+    )
+}
+
+/// The bytes of a `.npy` file (version 1) holding `values` as a `rows × columns` array of
+/// little-endian `uint32`: instance labels.
+pub fn write_npy_u32(values: &[u32], rows: usize, columns: usize) -> Vec<u8> {
+    npy_bytes(
+        "<u4",
+        rows,
+        columns,
+        values.iter().flat_map(|v| v.to_le_bytes()),
+    )
+}
+
+fn npy_bytes(descr: &str, rows: usize, columns: usize, data: impl Iterator<Item = u8>) -> Vec<u8> {
     let mut header =
-        format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({rows}, {columns}), }}");
+        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {columns}), }}");
     // The magic, version, length and header end on a multiple of 64 bytes, with a newline.
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');
@@ -165,15 +185,21 @@ pub fn write_npy_f32(values: &[f32], rows: usize, columns: usize) -> Vec<u8> {
     let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
     bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
     bytes.extend_from_slice(header.as_bytes());
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
+    bytes.extend(data);
     bytes
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn written_labels_read_back() {
+        let values = [0_u32, 7, 70_000, 1, 2, 3];
+        let read = read_npy(&write_npy_u32(&values, 3, 2), "test").unwrap();
+        assert_eq!((read.rows, read.columns), (3, 2));
+        assert_eq!(read.data, NpyData::Integer(values.to_vec()));
+    }
 
     #[test]
     fn a_written_array_reads_back() {

@@ -4,16 +4,17 @@ use std::path::Path;
 
 use pushmog::error::{Error, Result};
 use pushmog::exec::ur5::{
-    DryRun, Live, Observation, RobotConfig, Step, StepRunner, Translator, Ur5, execute_plan,
-    listing, plan_steps, step_list,
+    DepthLook, DryRun, Live, Observation, RobotConfig, Step, StepRunner, Translator, Ur5,
+    execute_plan, listing, plan_steps, step_list,
 };
 use pushmog::json;
+use pushmog::perception::PerceptionSettings;
 use pushmog::plan::{Plan, verify};
 use pushmog::policy::Run;
 use pushmog::scene::Scene;
 
 use super::ExecuteArgs;
-use super::commands::{policy, summary};
+use super::commands::{policy, read_camera, read_scene, summary};
 
 fn print_step(index: usize, step: &Step) {
     eprintln!("done {index:4}  {}", step.label);
@@ -100,10 +101,16 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
         calibration.max_residual * 1e3,
         calibration.worst_point
     );
-    let observation = match (&args.observe_file, &args.observe_command) {
-        (Some(path), _) => Some(Observation::File(path.clone())),
-        (None, Some(command)) => Some(Observation::Command(command.clone())),
-        (None, None) => None,
+    let observation = match (&args.observe_file, &args.observe_command, &args.camera) {
+        (Some(path), _, _) => Some(Observation::File(path.clone())),
+        (None, Some(command), Some(camera)) => Some(Observation::Camera(Box::new(DepthLook {
+            camera: read_camera(camera)?,
+            command: command.clone(),
+            table: read_scene(args.state.as_deref().unwrap_or(Path::new("-")))?,
+            settings: PerceptionSettings::default(),
+        }))),
+        (None, Some(command), None) => Some(Observation::Command(command.clone())),
+        (None, None, _) => None,
     };
     match (&args.plan, observation) {
         (Some(path), None) => {

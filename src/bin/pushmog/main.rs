@@ -199,6 +199,15 @@ struct ExecuteArgs {
     /// Closed loop: a shell command that prints a scene JSON document, run after every trip.
     #[arg(long, conflicts_with = "plan")]
     observe_command: Option<String>,
+    /// Closed loop through a depth camera (TOML, `pushmog schema camera`): `--observe-command` then
+    /// writes each frame as `.npy` to `$PUSHMOG_DEPTH` (labels, if any, to `$PUSHMOG_LABELS`)
+    /// instead of printing a scene, and the frame is perceived here with the last table, moved by
+    /// the pushes since, as the prior.
+    #[arg(long, requires_all = ["observe_command", "state"])]
+    camera: Option<PathBuf>,
+    /// With `--camera`: a scene file whose workspace and gripper the looks are for.
+    #[arg(long, requires = "camera")]
+    state: Option<PathBuf>,
     /// Policy of the closed loop.
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,

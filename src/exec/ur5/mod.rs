@@ -20,6 +20,7 @@
 
 mod blend;
 mod calibration;
+mod camera;
 mod config;
 pub mod fake;
 mod fits;
@@ -33,6 +34,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 pub use calibration::{Calibration, Correspondence};
+pub use camera::DepthLook;
 pub use config::{
     BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, RobotConfig,
     SafetyConfig, SpeedsConfig, TimeoutsConfig,
@@ -57,15 +59,27 @@ pub enum Observation {
     File(PathBuf),
     /// A shell command that prints a scene JSON document (run with `sh -c`).
     Command(String),
+    /// A depth camera whose frames a shell command writes, perceived here (`camera.rs`).
+    Camera(Box<DepthLook>),
 }
 
 impl Observation {
-    /// Reads the table once.
+    /// Reads the table once, with no table known before.
     ///
     /// # Errors
     /// I/O, a failing command, or an invalid scene.
     pub fn read(&self) -> Result<Scene> {
+        self.read_after(None, &[])
+    }
+
+    /// Reads the table once; a camera's look keeps the ids of `last` (the table read before, if
+    /// any), each object of `pushes` moved where its push was planned to leave it.
+    ///
+    /// # Errors
+    /// I/O, a failing command, an invalid scene, or a look whose blobs block planning.
+    pub fn read_after(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
         match self {
+            Self::Camera(look) => look.read(last, pushes),
             Self::File(path) => crate::json::read_scene(path),
             Self::Command(command) => {
                 let output = std::process::Command::new("sh")
@@ -286,7 +300,8 @@ pub struct ExecutedTrip {
 /// The UR5 as an [`Executor`] for the closed loop: pushes and grasps go to the link; after each trip
 /// the table is observed again and the objects gone from it count as carried.
 ///
-/// Observations must keep object ids from one to the next (tracking is the perception side's job).
+/// Observations must keep object ids from one to the next: a scene file or command must track them
+/// itself; a camera's look keeps them with the last table, moved by the pushes since, as its prior.
 #[derive(Debug)]
 pub struct Ur5<L: RobotLink> {
     runner: StepRunner<L>,
@@ -294,6 +309,8 @@ pub struct Ur5<L: RobotLink> {
     scene: Option<Scene>,
     /// Whether the arm has pushed since the table was last read.
     pushed: bool,
+    /// The pushes made since the table was last read (a camera's prior moves their objects).
+    pushes: Vec<Push>,
     /// The jaws' opening when the gripper's last command was a fork push's (`None` after a grasp:
     /// the jaws are fully open at the bin).
     jaws: Option<f64>,
@@ -311,6 +328,7 @@ impl<L: RobotLink> Ur5<L> {
             observation,
             scene: None,
             pushed: false,
+            pushes: Vec::new(),
             jaws: None,
             rise: None,
             record: Vec::new(),
@@ -379,6 +397,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
         self.finish_rise()?;
         self.scene = Some(scene.clone());
         self.pushed = false;
+        self.pushes.clear();
         self.jaws = None;
         self.record.clear();
         Ok(())
@@ -403,6 +422,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
         self.run_after_rise(steps)?;
         self.rise = rise;
         self.pushed = true;
+        self.pushes.push(push.clone());
         self.jaws = Some(push.fork.opening);
         self.current_trip()?.pushes.push(push.clone());
         Ok(None)
@@ -443,7 +463,10 @@ impl<L: RobotLink> Executor for Ur5<L> {
         self.run_after_rise(steps)?;
         self.current_trip()?.grasp = Some(grasp.clone());
         let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();
-        let after = self.observation.read()?;
+        let after = self
+            .observation
+            .read_after(self.scene.as_ref(), &self.pushes)?;
+        self.pushes.clear();
         let carried: Vec<ObjectId> = before
             .into_iter()
             .filter(|id| after.objects().iter().all(|o| o.id != *id))
@@ -461,8 +484,12 @@ impl<L: RobotLink> Executor for Ur5<L> {
     fn observe(&mut self) -> Result<Scene> {
         self.finish_rise()?;
         if self.scene.is_none() || self.pushed {
-            self.scene = Some(self.observation.read()?);
+            let seen = self
+                .observation
+                .read_after(self.scene.as_ref(), &self.pushes)?;
+            self.scene = Some(seen);
             self.pushed = false;
+            self.pushes.clear();
         }
         Ok(self.scene()?.clone())
     }

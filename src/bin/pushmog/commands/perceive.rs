@@ -135,7 +135,7 @@ impl Image {
 }
 
 /// The camera from a TOML file (or JSON, by its extension).
-fn read_camera(path: &Path) -> Result<Camera> {
+pub(crate) fn read_camera(path: &Path) -> Result<Camera> {
     let name = path.display().to_string();
     let text = json::read_text(path)?;
     let camera: Camera = if path.extension().is_some_and(|e| e == "json") {

@@ -1,0 +1,138 @@
+//! The closed loop's look through a depth camera: a shell command writes one depth frame (and, if
+//! it has them, instance labels) as NumPy files, and `perception::perceive` turns them into the
+//! table, with the scene expected after the pushes made since the last look as its prior
+//! (`formulations/perception.md`).
+//!
+//! The command runs with `sh -c`, with `PUSHMOG_DEPTH` naming the `.npy` file it must write (float
+//! metres, or uint16 in the camera's `depth.scale` units) and `PUSHMOG_LABELS` naming one it may
+//! write (integer labels, 0 for none). The prior keeps the ids of the objects the planner knows:
+//! the last table read, each pushed object moved to where its push was planned to leave it. A look
+//! in which any blob blocks planning (objects merged, stacked, over the workspace's edge, …) is an
+//! error that lists them, so the robot stops rather than plan on a table it cannot see.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::perception::{Camera, Depth, Frame, NpyData, PerceptionSettings, perceive, read_npy};
+use crate::push::{Push, predict};
+use crate::scene::Scene;
+
+/// A depth camera read by a shell command, for the table the robot works on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthLook {
+    /// The calibrated camera (`pushmog schema camera`).
+    pub camera: Camera,
+    /// The shell command that writes the frame to `$PUSHMOG_DEPTH` (and labels to `$PUSHMOG_LABELS`).
+    pub command: String,
+    /// A scene whose workspace and gripper the looks are for (its objects are not used).
+    pub table: Scene,
+    /// How frames are perceived.
+    pub settings: PerceptionSettings,
+}
+
+impl DepthLook {
+    /// One look: the command run, its frame read and perceived with the prior `last` (the table
+    /// last read, if any) moved by `pushes`.
+    ///
+    /// # Errors
+    /// The command failing or writing no depth, a frame the camera refuses, or blobs that block.
+    pub fn read(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+        let folder =
+            std::env::temp_dir().join(format!("pushmog-look-{}-{}", std::process::id(), unique()));
+        std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
+            path: folder.clone(),
+            source,
+        })?;
+        let result = self.look_in(&folder, last, pushes);
+        let _ = std::fs::remove_dir_all(&folder);
+        result
+    }
+
+    fn look_in(&self, folder: &Path, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+        let (depth_path, labels_path) = (folder.join("depth.npy"), folder.join("labels.npy"));
+        let output = std::process::Command::new("sh")
+            .args(["-c", &self.command])
+            .env("PUSHMOG_DEPTH", &depth_path)
+            .env("PUSHMOG_LABELS", &labels_path)
+            .output()
+            .map_err(|source| Error::Io {
+                path: PathBuf::from(&self.command),
+                source,
+            })?;
+        if !output.status.success() {
+            return Err(Error::field(
+                "camera command",
+                self.command.clone(),
+                format!(
+                    "exited with {}: {}",
+                    output.status,
+                    String::from_utf8_lossy(&output.stderr).trim()
+                ),
+            ));
+        }
+        if !depth_path.exists() {
+            return Err(Error::field(
+                "camera command",
+                self.command.clone(),
+                "wrote no depth frame to $PUSHMOG_DEPTH",
+            ));
+        }
+        let depth = read_npy(&bytes(&depth_path)?, &depth_path.display().to_string())?;
+        let labels = if labels_path.exists() {
+            let npy = read_npy(&bytes(&labels_path)?, &labels_path.display().to_string())?;
+            match npy.data {
+                NpyData::Integer(values) => Some(values),
+                NpyData::Unsigned16(values) => Some(values.into_iter().map(u32::from).collect()),
+                NpyData::Float(_) => {
+                    return Err(Error::field(
+                        "camera command",
+                        "$PUSHMOG_LABELS",
+                        "labels must be integers, one id per pixel, 0 for none",
+                    ));
+                }
+            }
+        } else {
+            None
+        };
+        let depth = match &depth.data {
+            NpyData::Float(values) => Depth::Metres(values),
+            NpyData::Unsigned16(values) => Depth::Units(values),
+            NpyData::Integer(_) => {
+                return Err(Error::field(
+                    "camera command",
+                    "$PUSHMOG_DEPTH",
+                    "depth must be float32/float64 metres or uint16 units",
+                ));
+            }
+        };
+        let frame = Frame {
+            depth: Some(depth),
+            labels: labels.as_deref(),
+            heights: None,
+        };
+        // The planner's ids: the last table with each pushed object where its push should leave it.
+        let prior = last.map(|scene| predict(scene, pushes).unwrap_or_else(|_| scene.clone()));
+        let seen = perceive(
+            &frame,
+            &self.camera,
+            self.table.workspace(),
+            self.table.gripper(),
+            prior.as_ref(),
+            &self.settings,
+        )?;
+        seen.scene()
+    }
+}
+
+fn bytes(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// A number not handed out before in this process.
+fn unique() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
