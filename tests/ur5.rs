@@ -694,6 +694,44 @@ fn the_closed_loop_sees_through_a_depth_camera_and_keeps_the_ids() {
     }
 }
 
+/// An observation command learns the table expected after the pushes from `$PUSHMOG_PRIOR`: the
+/// last table with each pushed object where its push was planned to leave it; the first look, with
+/// no table known, gets none.
+#[test]
+fn an_observation_command_is_given_the_expected_table() {
+    let plan = fixture_plan();
+    let trip = plan
+        .trips
+        .iter()
+        .find(|t| !t.plan.pushes.is_empty())
+        .unwrap();
+    let table = Scene::try_from(trip.scene.to_spec()).unwrap();
+    let dir = scratch("ur5-prior");
+    std::fs::write(dir.join("table.json"), pushmog::json::to_json(&table)).unwrap();
+    let command = format!(
+        "cd '{}' && if [ -n \"$PUSHMOG_PRIOR\" ]; then cp \"$PUSHMOG_PRIOR\" prior.json; fi && cat table.json",
+        dir.display()
+    );
+    let observation = Observation::Command(command);
+    observation.read().unwrap();
+    assert!(!dir.join("prior.json").exists());
+    observation
+        .read_after(Some(&table), &trip.plan.pushes)
+        .unwrap();
+    let text = std::fs::read_to_string(dir.join("prior.json")).unwrap();
+    let expected = pushmog::json::scene_from_json(&text, "prior.json").unwrap();
+    // Each pushed object where its last push was planned to leave it.
+    let mut checked = Vec::new();
+    for push in trip.plan.pushes.iter().rev() {
+        if !checked.contains(&push.object) {
+            let k = expected.index_of(push.object).unwrap();
+            assert_eq!(expected.objects()[k].pose, push.to);
+            checked.push(push.object);
+        }
+    }
+    assert_eq!(expected.len(), table.len());
+}
+
 /// `pushmog execute --camera … --state … --observe-command …` runs the same closed loop.
 #[test]
 fn the_cli_runs_a_closed_loop_through_a_depth_camera() {

@@ -93,7 +93,7 @@ impl SimCamera {
                 "camera.noise.sigma_per_square_metre",
                 self.noise.sigma_per_square_metre,
                 (0.0, 0.1),
-                "per metre; RealSense cameras are about 0.001-0.005",
+                "per metre; the default is 0.0025",
             ),
             (
                 "camera.noise.dropped",

@@ -6,7 +6,8 @@
 //! The command runs with `sh -c`, with `PUSHMOG_DEPTH` naming the `.npy` file it must write (float
 //! metres, or uint16 in the camera's `depth.scale` units) and `PUSHMOG_LABELS` naming one it may
 //! write (integer labels, 0 for none). The prior keeps the ids of the objects the planner knows:
-//! the last table read, each pushed object moved to where its push was planned to leave it. A look
+//! the last table read, each pushed object moved to where its push was planned to leave it
+//! (`Observation::read_after`). A look
 //! in which any blob blocks planning (objects merged, stacked, over the workspace's edge, …) is an
 //! error that lists them, so the robot stops rather than plan on a table it cannot see.
 
@@ -14,7 +15,6 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::perception::{Camera, Depth, Frame, NpyData, PerceptionSettings, perceive, read_npy};
-use crate::push::{Push, predict};
 use crate::scene::Scene;
 
 /// A depth camera read by a shell command, for the table the robot works on.
@@ -31,24 +31,24 @@ pub struct DepthLook {
 }
 
 impl DepthLook {
-    /// One look: the command run, its frame read and perceived with the prior `last` (the table
-    /// last read, if any) moved by `pushes`.
+    /// One look: the command run, its frame read and perceived with `prior` (the table expected
+    /// now, if one is known), whose ids it keeps.
     ///
     /// # Errors
     /// The command failing or writing no depth, a frame the camera refuses, or blobs that block.
-    pub fn read(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+    pub fn read(&self, prior: Option<&Scene>) -> Result<Scene> {
         let folder =
             std::env::temp_dir().join(format!("pushmog-look-{}-{}", std::process::id(), unique()));
         std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
             path: folder.clone(),
             source,
         })?;
-        let result = self.look_in(&folder, last, pushes);
+        let result = self.look_in(&folder, prior);
         let _ = std::fs::remove_dir_all(&folder);
         result
     }
 
-    fn look_in(&self, folder: &Path, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+    fn look_in(&self, folder: &Path, prior: Option<&Scene>) -> Result<Scene> {
         let (depth_path, labels_path) = (folder.join("depth.npy"), folder.join("labels.npy"));
         let output = std::process::Command::new("sh")
             .args(["-c", &self.command])
@@ -110,14 +110,12 @@ impl DepthLook {
             labels: labels.as_deref(),
             heights: None,
         };
-        // The planner's ids: the last table with each pushed object where its push should leave it.
-        let prior = last.map(|scene| predict(scene, pushes).unwrap_or_else(|_| scene.clone()));
         let seen = perceive(
             &frame,
             &self.camera,
             self.table.workspace(),
             self.table.gripper(),
-            prior.as_ref(),
+            prior,
             &self.settings,
         )?;
         seen.scene()
@@ -132,7 +130,7 @@ fn bytes(path: &Path) -> Result<Vec<u8>> {
 }
 
 /// A number not handed out before in this process.
-fn unique() -> u64 {
+pub(super) fn unique() -> u64 {
     static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }

@@ -49,7 +49,7 @@ use crate::error::{Error, Result};
 use crate::exec::{Executor, GraspResult, Landing};
 use crate::grasp::Grasp;
 use crate::plan::{Plan, Rider};
-use crate::push::Push;
+use crate::push::{Push, predict};
 use crate::scene::{ObjectId, Scene, SceneSpec};
 
 /// Where observations of the table come from between trips.
@@ -57,7 +57,9 @@ use crate::scene::{ObjectId, Scene, SceneSpec};
 pub enum Observation {
     /// A scene JSON file, read again after each trip (a perception pipeline rewrites it).
     File(PathBuf),
-    /// A shell command that prints a scene JSON document (run with `sh -c`).
+    /// A shell command that prints a scene JSON document (run with `sh -c`); after the first look,
+    /// `$PUSHMOG_PRIOR` names a scene file of the table expected (the last one read, each pushed
+    /// object where its push was planned to leave it), for the command's tracker.
     Command(String),
     /// A depth camera whose frames a shell command writes, perceived here (`camera.rs`).
     Camera(Box<DepthLook>),
@@ -78,17 +80,37 @@ impl Observation {
     /// # Errors
     /// I/O, a failing command, an invalid scene, or a look whose blobs block planning.
     pub fn read_after(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+        // The table expected now: the last one read, each pushed object where its push was
+        // planned to leave it (as it was read when that prediction is no valid scene).
+        let expected = last.map(|scene| predict(scene, pushes).unwrap_or_else(|_| scene.clone()));
         match self {
-            Self::Camera(look) => look.read(last, pushes),
+            Self::Camera(look) => look.read(expected.as_ref()),
             Self::File(path) => crate::json::read_scene(path),
             Self::Command(command) => {
-                let output = std::process::Command::new("sh")
-                    .args(["-c", command])
-                    .output()
-                    .map_err(|source| Error::Io {
-                        path: PathBuf::from(command),
-                        source,
-                    })?;
+                // The table expected, for the command's tracker: `$PUSHMOG_PRIOR` names it.
+                let prior = expected
+                    .map(|scene| {
+                        let path = std::env::temp_dir().join(format!(
+                            "pushmog-prior-{}-{}.json",
+                            std::process::id(),
+                            camera::unique()
+                        ));
+                        crate::json::write_text(&path, &crate::json::to_json(&scene)).map(|()| path)
+                    })
+                    .transpose()?;
+                let mut shell = std::process::Command::new("sh");
+                shell.args(["-c", command]);
+                if let Some(path) = &prior {
+                    shell.env("PUSHMOG_PRIOR", path);
+                }
+                let output = shell.output();
+                if let Some(path) = &prior {
+                    let _ = std::fs::remove_file(path);
+                }
+                let output = output.map_err(|source| Error::Io {
+                    path: PathBuf::from(command),
+                    source,
+                })?;
                 if !output.status.success() {
                     return Err(Error::field(
                         "observation command",
