@@ -30,6 +30,42 @@ pub struct Npy {
     pub data: NpyData,
 }
 
+impl Npy {
+    /// The array as a depth image: float metres or uint16 units. `source` and `field` name it in
+    /// the error (say `"perceive"` and `"--depth"`).
+    ///
+    /// # Errors
+    /// Other integers, which are no depth.
+    pub fn depth(&self, source: &str, field: &str) -> Result<super::Depth<'_>> {
+        match &self.data {
+            NpyData::Float(values) => Ok(super::Depth::Metres(values)),
+            NpyData::Unsigned16(values) => Ok(super::Depth::Units(values)),
+            NpyData::Integer(_) => Err(Error::field(
+                source,
+                field,
+                "depth must be float32/float64 metres or uint16 units",
+            )),
+        }
+    }
+
+    /// The array as instance labels: integers, 0 for none. `source` and `field` name it in the
+    /// error.
+    ///
+    /// # Errors
+    /// Floats, which are no labels.
+    pub fn labels(&self, source: &str, field: &str) -> Result<Vec<u32>> {
+        match &self.data {
+            NpyData::Integer(values) => Ok(values.clone()),
+            NpyData::Unsigned16(values) => Ok(values.iter().map(|&l| u32::from(l)).collect()),
+            NpyData::Float(_) => Err(Error::field(
+                source,
+                field,
+                "labels must be integers, one id per pixel, 0 for none",
+            )),
+        }
+    }
+}
+
 fn bad(source: &str, reason: impl Into<String>) -> Error {
     Error::field(source, "npy", reason.into())
 }

@@ -14,7 +14,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::perception::{Camera, Depth, Frame, NpyData, PerceptionSettings, perceive, read_npy};
+use crate::perception::{Camera, Frame, PerceptionSettings, perceive, read_npy};
 use crate::scene::Scene;
 
 /// A depth camera read by a shell command, for the table the robot works on.
@@ -80,33 +80,12 @@ impl DepthLook {
         let depth = read_npy(&bytes(&depth_path)?, &depth_path.display().to_string())?;
         let labels = if labels_path.exists() {
             let npy = read_npy(&bytes(&labels_path)?, &labels_path.display().to_string())?;
-            match npy.data {
-                NpyData::Integer(values) => Some(values),
-                NpyData::Unsigned16(values) => Some(values.into_iter().map(u32::from).collect()),
-                NpyData::Float(_) => {
-                    return Err(Error::field(
-                        "camera command",
-                        "$PUSHMOG_LABELS",
-                        "labels must be integers, one id per pixel, 0 for none",
-                    ));
-                }
-            }
+            Some(npy.labels("camera command", "$PUSHMOG_LABELS")?)
         } else {
             None
         };
-        let depth = match &depth.data {
-            NpyData::Float(values) => Depth::Metres(values),
-            NpyData::Unsigned16(values) => Depth::Units(values),
-            NpyData::Integer(_) => {
-                return Err(Error::field(
-                    "camera command",
-                    "$PUSHMOG_DEPTH",
-                    "depth must be float32/float64 metres or uint16 units",
-                ));
-            }
-        };
         let frame = Frame {
-            depth: Some(depth),
+            depth: Some(depth.depth("camera command", "$PUSHMOG_DEPTH")?),
             labels: labels.as_deref(),
             heights: None,
         };

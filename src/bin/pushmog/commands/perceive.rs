@@ -6,27 +6,13 @@ use std::path::Path;
 use pushmog::error::{Error, Result};
 use pushmog::json::{self, to_json};
 use pushmog::perception::{
-    Camera, Depth, Frame, NpyData, PerceptionSettings, overlay_svg, perceive as look, read_npy,
+    Camera, Frame, Npy, NpyData, PerceptionSettings, overlay_svg, perceive as look, read_npy,
 };
 use pushmog::scene::{Gripper, Scene, Workspace};
 
 use crate::PerceiveArgs;
 
 use super::io::{read_scene, settings_or_default, write_output};
-
-/// The values of an image file.
-enum Values {
-    Float(Vec<f32>),
-    Unsigned16(Vec<u16>),
-    Integer(Vec<u32>),
-}
-
-/// An image read from a `.npy` or `.png` file: rows, columns, values.
-struct Image {
-    rows: usize,
-    columns: usize,
-    values: Values,
-}
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
@@ -36,21 +22,11 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
 }
 
 /// Reads a `.npy` array or a grey-scale `.png` (8 or 16 bits).
-fn read_image(path: &Path) -> Result<Image> {
+fn read_image(path: &Path) -> Result<Npy> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     if bytes.starts_with(b"\x93NUMPY") {
-        let npy = read_npy(&bytes, &name)?;
-        let values = match npy.data {
-            NpyData::Float(v) => Values::Float(v),
-            NpyData::Unsigned16(v) => Values::Unsigned16(v),
-            NpyData::Integer(v) => Values::Integer(v),
-        };
-        return Ok(Image {
-            rows: npy.rows,
-            columns: npy.columns,
-            values,
-        });
+        return read_npy(&bytes, &name);
     }
     let bad = |reason: String| Error::field(name.clone(), "png", reason);
     let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
@@ -72,66 +48,38 @@ fn read_image(path: &Path) -> Result<Image> {
     }
     let (rows, columns) = (frame.height as usize, frame.width as usize);
     let data = &buffer[..frame.buffer_size()];
-    let values = match frame.bit_depth {
-        png::BitDepth::Sixteen => Values::Unsigned16(
+    let data = match frame.bit_depth {
+        png::BitDepth::Sixteen => NpyData::Unsigned16(
             data.chunks_exact(2)
                 .map(|b| u16::from_be_bytes([b[0], b[1]]))
                 .collect(),
         ),
-        png::BitDepth::Eight => Values::Integer(data.iter().map(|&b| u32::from(b)).collect()),
+        png::BitDepth::Eight => NpyData::Integer(data.iter().map(|&b| u32::from(b)).collect()),
         depth => return Err(bad(format!("{depth:?}-bit grey is not read: 8 or 16 bits"))),
     };
-    Ok(Image {
+    Ok(Npy {
         rows,
         columns,
-        values,
+        data,
     })
 }
 
-impl Image {
-    /// The image at `path` (if given), refused unless its size is the camera's; `flag` names it.
-    fn read_for(path: Option<&Path>, camera: &Camera, flag: &str) -> Result<Option<Image>> {
-        let Some(path) = path else { return Ok(None) };
-        let image = read_image(path)?;
-        let k = &camera.intrinsics;
-        if (image.rows, image.columns) != (k.height as usize, k.width as usize) {
-            return Err(Error::field(
-                "perceive",
-                flag,
-                format!(
-                    "the image is {} wide and {} high, the camera's {} and {}",
-                    image.columns, image.rows, k.width, k.height
-                ),
-            ));
-        }
-        Ok(Some(image))
+/// The image at `path` (if given), refused unless its size is the camera's; `flag` names it.
+fn read_for(path: Option<&Path>, camera: &Camera, flag: &str) -> Result<Option<Npy>> {
+    let Some(path) = path else { return Ok(None) };
+    let image = read_image(path)?;
+    let k = &camera.intrinsics;
+    if (image.rows, image.columns) != (k.height as usize, k.width as usize) {
+        return Err(Error::field(
+            "perceive",
+            flag,
+            format!(
+                "the image is {} wide and {} high, the camera's {} and {}",
+                image.columns, image.rows, k.width, k.height
+            ),
+        ));
     }
-
-    /// The image as depth: float metres or 16-bit units.
-    fn depth(&self) -> Result<Depth<'_>> {
-        match &self.values {
-            Values::Float(v) => Ok(Depth::Metres(v)),
-            Values::Unsigned16(v) => Ok(Depth::Units(v)),
-            Values::Integer(_) => Err(Error::field(
-                "perceive",
-                "--depth",
-                "depth must be float32/float64 metres or uint16 units",
-            )),
-        }
-    }
-
-    /// The image as instance labels: integers, 0 for none.
-    fn labels(&self) -> Result<Vec<u32>> {
-        match &self.values {
-            Values::Integer(v) => Ok(v.clone()),
-            Values::Unsigned16(v) => Ok(v.iter().map(|&l| u32::from(l)).collect()),
-            Values::Float(_) => Err(Error::field(
-                "perceive",
-                "--labels",
-                "labels must be integers, one id per pixel, 0 for none",
-            )),
-        }
-    }
+    Ok(Some(image))
 }
 
 /// The camera from a TOML file (or JSON, by its extension).
@@ -156,9 +104,12 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         Some(s) => (s.workspace().clone(), s.gripper().clone()),
         None => (Workspace::default(), Gripper::default()),
     };
-    let depth = Image::read_for(args.depth.as_deref(), &camera, "--depth")?;
-    let labels = Image::read_for(args.labels.as_deref(), &camera, "--labels")?;
-    let label_values = labels.as_ref().map(Image::labels).transpose()?;
+    let depth = read_for(args.depth.as_deref(), &camera, "--depth")?;
+    let labels = read_for(args.labels.as_deref(), &camera, "--labels")?;
+    let label_values = labels
+        .as_ref()
+        .map(|l| l.labels("perceive", "--labels"))
+        .transpose()?;
     let heights: Option<BTreeMap<u32, f64>> = match args.heights.as_deref() {
         Some(path) => Some(json::from_json(
             &json::read_text(path)?,
@@ -167,7 +118,10 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         None => None,
     };
     let frame = Frame {
-        depth: depth.as_ref().map(Image::depth).transpose()?,
+        depth: depth
+            .as_ref()
+            .map(|d| d.depth("perceive", "--depth"))
+            .transpose()?,
         labels: label_values.as_deref(),
         heights: heights.as_ref(),
     };
