@@ -759,18 +759,7 @@ fn the_cli_runs_a_closed_loop_through_a_depth_camera() {
         "--out",
         &path("out"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("status            cleared"), "{stdout}");
-    let run: Plan = pushmog::json::from_json(
-        &std::fs::read_to_string(dir.join("out/run.json")).unwrap(),
-        "run",
-    )
-    .unwrap();
+    let run = cleared_run(&out, &dir.join("out"));
     assert_eq!(run.trips.len(), reference.trips.len());
 }
 
@@ -1018,6 +1007,20 @@ fn a_closed_loop_that_stops_keeps_its_trips() {
     assert_eq!(gripper_moves(&gripper).len(), 6);
 }
 
+/// The run a closed-loop `pushmog execute` wrote to `folder`, after checking that it exited well and
+/// printed a cleared table.
+fn cleared_run(out: &Output, folder: &Path) -> Plan {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("status            cleared"), "{stdout}");
+    let text = std::fs::read_to_string(folder.join("run.json")).unwrap();
+    pushmog::json::from_json(&text, "run").unwrap()
+}
+
 #[test]
 fn the_cli_runs_a_closed_loop_on_the_fakes() {
     let (observation, reference, _) = replayed_observations("ur5-cli-closed-loop");
@@ -1043,18 +1046,7 @@ fn the_cli_runs_a_closed_loop_on_the_fakes() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("status            cleared"), "{stdout}");
-    let run: Plan = pushmog::json::from_json(
-        &std::fs::read_to_string(dir.join("run.json")).unwrap(),
-        "run",
-    )
-    .unwrap();
+    let run = cleared_run(&out, &dir);
     assert_eq!(run.trips.len(), reference.trips.len());
     assert_eq!(run.executor, "ur5");
     assert!(dir.join("executed-trips.json").is_file());
