@@ -21,8 +21,8 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::Sim;
 use super::prism::Prism;
-use super::{RIDING, Sim};
 use crate::error::Result;
 use crate::exec::RIDER_LEFT;
 use crate::perception::{
@@ -164,7 +164,6 @@ impl Sim {
     pub(super) fn camera_observation(&mut self, camera: &SimCamera) -> Result<Scene> {
         let workspace = self.table()?.clone();
         self.lost.clear();
-        let topple = self.settings.topple_angle;
         let solids: Vec<Solid> = self.prisms.iter().map(Prism::solid).collect();
         let view = camera.over(&workspace);
         let rendered = render_solids(&solids, &view)?;
@@ -195,13 +194,10 @@ impl Sim {
             None,
             &camera.perception,
         )?;
-        let riding = |p: &Prism| {
-            self.placed.contains(&p.id) && p.tilt() <= topple && p.translation.z > RIDING
-        };
         let mut objects = Vec::new();
         for prism in &self.prisms {
             let label = prism.id.0 + 1;
-            if riding(prism) {
+            if self.rider_left_standing(prism) {
                 self.lost.push((prism.id, RIDER_LEFT));
                 continue;
             }

@@ -52,6 +52,16 @@ pub use rollout::Rollout;
 
 /// A rider whose base is this high above the table still stands on something, metres.
 const RIDING: f64 = 0.005;
+
+impl Sim {
+    /// Whether `prism` is a rider still standing upright on something (its row was not carried):
+    /// a camera sees it on top, not on the table, so neither observation plans for it.
+    fn rider_left_standing(&self, prism: &Prism) -> bool {
+        self.placed.contains(&prism.id)
+            && prism.tilt() <= self.settings.topple_angle
+            && prism.translation.z > RIDING
+    }
+}
 pub use camera::SimCamera;
 pub use settings::{FingerDrive, SimSettings};
 

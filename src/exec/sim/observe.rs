@@ -2,7 +2,7 @@
 //! or why it cannot be planned for (toppled, outside the workspace, lying on another object, a
 //! rider left on another object); noise that would make outlines overlap undone.
 
-use super::{RIDING, Sim};
+use super::Sim;
 use crate::error::Result;
 use crate::exec::RIDER_LEFT;
 use crate::geometry::overlap;
@@ -21,11 +21,7 @@ impl Sim {
         let mut truth: Vec<Object> = Vec::new();
         self.lost.clear();
         for prism in &self.prisms {
-            // A rider still standing on something: the camera sees it on top, not on the table.
-            if self.placed.contains(&prism.id)
-                && prism.tilt() <= s.topple_angle
-                && prism.translation.z > RIDING
-            {
+            if self.rider_left_standing(prism) {
                 self.lost.push((prism.id, RIDER_LEFT));
                 continue;
             }
