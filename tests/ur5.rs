@@ -10,8 +10,8 @@ use pushmog::exec::SimCamera;
 use pushmog::exec::ur5::DepthLook;
 use pushmog::exec::ur5::fake::{ControllerFaults, FakeController, FakeGripper, GripperFaults};
 use pushmog::exec::ur5::{
-    Action, Calibration, Correspondence, DryRun, Live, Observation, Phase, RobotConfig, StepRunner,
-    Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
+    Action, Calibration, Correspondence, DryRun, Live, LookConfig, Observation, Phase, RobotConfig,
+    StepRunner, Translator, Ur5, execute_plan, gripper_command, listing, plan_steps, program,
 };
 use pushmog::perception::{PerceptionSettings, render_depth, write_npy_f32, write_npy_u32};
 use pushmog::plan::Plan;
@@ -192,7 +192,7 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
     assert!(riding.riders_placed() > 0, "a trip with a rider");
     let mut jaws_left_out = 0;
     let mut blended = 0;
-    for plan in [fixture_plan(), run, ahead, riding] {
+    for plan in [fixture_plan(), run.clone(), ahead, riding] {
         for (t, trip) in plan.trips.iter().enumerate() {
             let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
             let gripper = scene.gripper();
@@ -253,6 +253,51 @@ fn the_dry_run_sends_exactly_the_commands_the_time_model_charges() {
     }
     assert!(jaws_left_out > 0, "some push found the jaws at its opening");
     assert!(blended > 0, "some move flowed into the next");
+    // With a waiting pose out of the camera's view, each look during a trip adds the move there,
+    // and the model set to charge it charges exactly that.
+    let mut config = example_config();
+    config.look = Some(waiting_pose());
+    let away = Translator::new(config).unwrap();
+    let model = TimeModel {
+        look_away: 0.3,
+        ..TimeModel::default()
+    };
+    let mut waits = 0;
+    for (t, trip) in run.trips.iter().enumerate() {
+        let scene = pushmog::scene::Scene::new(trip.scene.to_spec()).unwrap();
+        let looks: Vec<usize> = trip.looks.iter().map(|l| l.after_pushes).collect();
+        let steps = away.trip(
+            &scene,
+            &trip.plan.pushes,
+            &looks,
+            &[],
+            &trip.plan.grasp,
+            t + 1,
+        );
+        let mut paths = push_paths(&trip.plan.pushes);
+        for &after in &looks {
+            paths[after - 1].look_after = true;
+        }
+        let charged = model.trip_commands(
+            scene.gripper(),
+            &paths,
+            &grasp_path(&trip.plan.grasp, scene.gripper()),
+        );
+        assert_eq!(step_kinds(&steps), command_kinds(&charged), "trip {t}");
+        waits += steps.iter().filter(|s| s.phase == Phase::OutOfView).count();
+        assert_eq!(
+            waits,
+            run.trips[..=t].iter().map(|t| t.looks.len()).sum::<usize>()
+        );
+    }
+    assert!(waits > 0, "a look during a trip");
+}
+
+/// A waiting pose beside the bin, out of an overhead camera's view of the example cell's table.
+fn waiting_pose() -> LookConfig {
+    LookConfig {
+        wait: [-0.40, 0.50, 0.30],
+    }
 }
 
 #[test]
@@ -563,7 +608,9 @@ fn the_closed_loop_replans_on_each_observation() {
     // must make the same trips.
     let (observation, reference, policy) = replayed_observations("ur5-closed-loop");
     let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
-    let config = config_for(&controller, &gripper);
+    // The arm leaves the camera's view for each look during a trip.
+    let mut config = config_for(&controller, &gripper);
+    config.look = Some(waiting_pose());
     let first = observation.read().unwrap();
     let mut robot = Ur5::new(live_runner(&config), observation);
     let run = policy.run(&first, &mut robot, 5).unwrap();
@@ -592,9 +639,13 @@ fn the_closed_loop_replans_on_each_observation() {
         .filter(|s| matches!(s.action, Action::Move { .. }))
         .count();
     assert_eq!(controller.programs().len(), motions);
-    // The closed loop holds each push's rise back for the next action (or stops it for a look):
-    // the moves it sent stop and blend exactly where the time model charges a stop or none.
-    let model = TimeModel::default();
+    // The closed loop holds each push's rise back for the next action (or stops it for a look and
+    // moves out of the camera's view): the moves it sent stop and blend exactly where the time
+    // model, charging the way out of view, charges a stop or none.
+    let model = TimeModel {
+        look_away: 0.3,
+        ..TimeModel::default()
+    };
     let charged: String = run
         .trips
         .iter()
@@ -614,6 +665,23 @@ fn the_closed_loop_replans_on_each_observation() {
     assert_eq!(step_kinds(robot.runner().steps()), charged);
     let looks: usize = run.trips.iter().map(|t| t.looks.len()).sum();
     assert!(looks > 0 && charged.contains('T'), "looks and blends");
+    // Each look waited at the pose: a stopping move there right after a push's rise.
+    let steps = robot.runner().steps();
+    let waits: Vec<usize> = (0..steps.len())
+        .filter(|&k| steps[k].phase == Phase::OutOfView)
+        .collect();
+    assert_eq!(waits.len(), looks);
+    for k in waits {
+        assert_eq!(steps[k - 1].phase, Phase::RiseFromPush);
+        let Action::Move { moves } = &steps[k].action else {
+            panic!("a move out of view");
+        };
+        assert_eq!(moves.len(), 1);
+        assert_eq!(
+            (moves[0].to.position, moves[0].blend),
+            (waiting_pose().wait, 0.0)
+        );
+    }
 }
 
 /// The tables an ideal run of push-mog on the fixture scene saw, rendered as depth and labels by a
@@ -901,12 +969,25 @@ fn bad_robot_configurations_name_the_field() {
         ),
         ("[heights]", "[heights]\nbogus = 1.0", "bogus"),
         (
+            "# [look]\n# wait = [-0.40, 0.50, 0.30]",
+            "[look]\nwait = [-0.40, 2.50, 0.30]",
+            "look.wait[1]",
+        ),
+        (
             "min = [-0.55, 0.20, 0.000]",
             "min = [0.55, 0.20, 0.000]",
             "safety",
         ),
     ];
     each_edit_is_refused_naming(&cases);
+    // The example's waiting pose, uncommented, reads.
+    let example = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur5-example.toml"),
+    )
+    .unwrap()
+    .replacen("# [look]\n# wait", "[look]\nwait", 1);
+    let config = RobotConfig::from_toml(&example, "cell.toml").unwrap();
+    assert_eq!(config.look, Some(waiting_pose()));
 }
 
 /// Issue 38, defect 4: values the UR5 and the 2F-85 cannot take, each refused naming its field.

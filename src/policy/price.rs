@@ -165,11 +165,17 @@ impl Pricing {
             // The arm stops out of the rise for the look.
             last.look_after = look;
         }
-        let look = if look { model.look_seconds() } else { 0.0 };
+        // The moves out of the camera's view and back for that look are in `pushing`, and in a
+        // corrective round's estimate.
+        let (look, away) = if look {
+            (model.look_seconds(), model.look_away_seconds())
+        } else {
+            (0.0, 0.0)
+        };
         let pushing = model.trip_seconds(gripper, &paths, &jaws)
             - model.trip_seconds(gripper, &before, &jaws);
         let mean = pushes.iter().map(|p| p.distance).sum::<f64>() / pushes.len().max(1) as f64;
-        let correcting = model.nominal_later_push_seconds(mean) + look;
+        let correcting = model.nominal_later_push_seconds(mean) + look + away;
         let single = model.nominal_trip_seconds(gripper) + model.look_seconds();
         let gained = grasp.objects.len().saturating_sub(taken) as f64;
         self.carried_all(judged, ahead.is_some()) * gained * single

@@ -20,7 +20,9 @@
 //! opening, descend, close onto the row, lift and travel to the bin, open fully. Travel is `bin_distance`
 //! from the bin to the first action, then the straight distance between successive actions inside the
 //! workspace. Every observation (each trip, each planning attempt that found nothing, each look
-//! during a trip) costs `perception` plus `observation` seconds: the camera, then the planner.
+//! during a trip) costs `perception` plus `observation` seconds: the camera, then the planner. For
+//! a look during a trip the arm first leaves the camera's view, `look_away` (0 unless set; one
+//! stopping move), and its next action starts that far away.
 //!
 //! **The fit.** Public logs of a UR5 with a Robotiq 2F-85 and the bin adjacent
 //! (`experiments/data/`, 1,245 timed grasp-and-trip attempts) give a median execution of 12.2 s per
@@ -87,6 +89,19 @@ pub struct TimeModel {
     /// Default true. `false` stops after every move, as the real cell whose trips fixed the settle
     /// time did (the fit is made that way whatever this says).
     pub blend_free_moves: bool,
+    /// Distance the arm travels from where it stops above the table to a pose out of the camera's
+    /// view for a look during a trip (after pushes), metres; its next action starts the same
+    /// distance away. The move there stops (the look waits for it). Default 0: the arm waits where
+    /// it stopped, so the camera must see the table past it. An overhead camera sees the gripper
+    /// above the table; set this to the way to where the arm waits (`bin_distance` for an arm that
+    /// waits beside the bin), and the UR5 executor's `look.wait` to that pose. Left out of
+    /// written settings when 0, so settings written before it existed hash alike.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub look_away: f64,
+}
+
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
 }
 
 /// The fitted settle time per command, seconds (`fit_settle` on the real cell's logs; the test
@@ -110,6 +125,7 @@ impl Default for TimeModel {
             observation: FITTED_OBSERVATION,
             perception: 0.0,
             blend_free_moves: true,
+            look_away: 0.0,
         }
     }
 }
@@ -138,6 +154,15 @@ pub fn trapezoid_seconds(distance: f64, v: f64, a: f64) -> f64 {
     } else {
         2.0 * (distance / a).sqrt()
     }
+}
+
+/// Where the arm is between two actions of a trip.
+#[derive(Clone, Copy)]
+enum At {
+    /// Away from the table, this far from every point of the workspace, metres.
+    Away(f64),
+    /// Above this point of the table.
+    Over(Point2<f64>),
 }
 
 /// A fork push as the time model sees it: where the fingers are lowered and where they rise.
@@ -180,7 +205,7 @@ impl TimeModel {
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let checks: [(&str, f64, (f64, f64), &str); 10] = [
+        let checks: [(&str, f64, (f64, f64), &str); 11] = [
             (
                 "travel_speed",
                 self.travel_speed,
@@ -231,6 +256,12 @@ impl TimeModel {
                 (0.0, 600.0),
                 "s of perception per observation",
             ),
+            (
+                "look_away",
+                self.look_away,
+                (0.0, 100.0),
+                "m to where the arm waits out of the camera's view",
+            ),
         ];
         for (field, value, range, why) in checks {
             crate::error::in_range("time_model", field, value, range, why)?;
@@ -241,6 +272,18 @@ impl TimeModel {
     /// Seconds of one observation of the table: perception, then planning on what it saw.
     pub fn look_seconds(&self) -> f64 {
         self.perception + self.observation
+    }
+
+    /// Seconds a look during a trip adds to the arm's commands, at most: the move out of the
+    /// camera's view ([`TimeModel::look_away`]) with its settle, and the motion of the way back
+    /// (which replaces the travel from where the arm stopped; 0 when the arm waits where it
+    /// stopped). The look itself is [`TimeModel::look_seconds`].
+    pub fn look_away_seconds(&self) -> f64 {
+        if self.look_away > 0.0 {
+            self.seconds(&[Command::Arm(self.look_away)]) + self.move_seconds(self.look_away)
+        } else {
+            0.0
+        }
     }
 
     /// Seconds of the motion of a straight arm move of `distance` metres (no settle time).
@@ -283,7 +326,8 @@ impl TimeModel {
     /// push, rise; then travel to the grasp, jaws to the grasp's opening, descend, close, lift, to the
     /// bin, open fully. With [`TimeModel::blend_free_moves`] the travel to a push, a push's rise
     /// (unless a look or a jaw command follows it) and the lift are [`Command::Through`]: each flows
-    /// into the next arm move, which is always one through free air.
+    /// into the next arm move, which is always one through free air. A push the loop looks after is
+    /// followed by the move out of the camera's view when [`TimeModel::look_away`] is set.
     pub fn trip_commands(
         &self,
         gripper: &Gripper,
@@ -305,11 +349,16 @@ impl TimeModel {
         grasp: &GraspPath,
     ) -> Vec<Command> {
         let mut commands = Vec::with_capacity(5 * pushes.len() + 7);
-        let mut at: Option<Point2<f64>> = None;
+        // Where the arm is: `Away(d)` is `d` from every point of the workspace (the bin, or where
+        // it waits out of the camera's view for a look).
+        let mut at = At::Away(self.bin_distance);
         let mut jaws = gripper.stroke;
-        let travel = |to: Point2<f64>, at: &mut Option<Point2<f64>>| {
-            let distance = at.map_or(self.bin_distance, |from| nalgebra::distance(&from, &to));
-            *at = Some(to);
+        let travel = |to: Point2<f64>, at: &mut At| {
+            let distance = match *at {
+                At::Away(d) => d,
+                At::Over(from) => nalgebra::distance(&from, &to),
+            };
+            *at = At::Over(to);
             distance
         };
         let flowing = |distance: f64, blends: bool| {
@@ -335,7 +384,12 @@ impl TimeModel {
                 self.approach_height,
                 !push.look_after && !jaws_next,
             ));
-            at = Some(push.end);
+            at = At::Over(push.end);
+            if push.look_after && self.look_away > 0.0 {
+                // Out of the camera's view for the look, stopping there.
+                commands.push(Command::Arm(self.look_away));
+                at = At::Away(self.look_away);
+            }
         }
         for rider in riders {
             let pick = &rider.pick;

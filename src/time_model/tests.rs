@@ -187,3 +187,49 @@ fn a_rider_costs_its_pick_and_its_release_before_the_grasp() {
         model.seconds(&with) - model.seconds(&without)
     );
 }
+
+#[test]
+fn a_look_during_a_trip_moves_the_arm_out_of_view_and_back_when_asked() {
+    let gripper = Gripper::default();
+    let grasp = GraspPath {
+        center: Point2::new(0.2, 0.0),
+        ..TimeModel::nominal_grasp(&gripper)
+    };
+    let push = |look_after: bool| PushPath {
+        approach: Point2::new(0.0, 0.05),
+        end: Point2::new(0.0, 0.0),
+        opening: gripper.fork_push_opening(),
+        look_after,
+    };
+    let staying = TimeModel::default();
+    let leaving = TimeModel {
+        look_away: 0.3,
+        ..TimeModel::default()
+    };
+    // Without a look the setting changes nothing.
+    assert_eq!(
+        leaving.trip_commands(&gripper, &[push(false)], &grasp),
+        staying.trip_commands(&gripper, &[push(false)], &grasp)
+    );
+    // With one: a stopping move of 0.3 m after the rise, and the travel to the grasp is 0.3 m
+    // instead of the 0.2 m from the push's end.
+    let stay = staying.trip_commands(&gripper, &[push(true)], &grasp);
+    let leave = leaving.trip_commands(&gripper, &[push(true)], &grasp);
+    assert_eq!(leave.len(), stay.len() + 1);
+    let rise = stay
+        .iter()
+        .position(|c| matches!(c, Command::Push(_)))
+        .map_or(0, |k| k + 1);
+    assert_eq!(leave[..=rise], stay[..=rise]);
+    assert_eq!(leave[rise + 1], Command::Arm(0.3));
+    assert_eq!(stay[rise + 1], Command::Arm(0.2));
+    assert_eq!(leave[rise + 2], Command::Arm(0.3));
+    assert_eq!(leave[rise + 3..], stay[rise + 2..]);
+    // The planning estimate of the extra: the move there with its settle, and the way back.
+    let extra = leaving.seconds(&leave) - leaving.seconds(&stay);
+    let expected = leaving.move_seconds(0.3) + leaving.arm_settle + leaving.move_seconds(0.3)
+        - leaving.move_seconds(0.2);
+    assert!((extra - expected).abs() < 1e-12, "{extra}");
+    assert!(leaving.look_away_seconds() > extra);
+    assert_eq!(staying.look_away_seconds(), 0.0);
+}

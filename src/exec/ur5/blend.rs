@@ -15,7 +15,9 @@ const MIN_BLEND: f64 = 0.0005;
 impl Translator {
     /// All steps of one trip: its pushes in order, then its grasp and the trip to the bin, moves
     /// that flow into the next joined into one program ([`Translator::blend`]). `looks` lists after
-    /// how many pushes the loop looked at the table (a plan's `looks`): the rise before a look stops.
+    /// how many pushes the loop looked at the table (a plan's `looks`): the rise before a look stops,
+    /// and the arm moves out of the camera's view when the configuration says where
+    /// ([`Translator::out_of_view`]).
     pub fn trip(
         &self,
         scene: &Scene,
@@ -30,10 +32,16 @@ impl Translator {
         for (k, push) in pushes.iter().enumerate() {
             let name = format!("trip {trip}, push {} of {}", k + 1, pushes.len());
             let mut push_steps = self.fork_push(scene, push, &name, jaws);
-            if looks.contains(&(k + 1)) {
+            let look = looks.contains(&(k + 1));
+            if look {
                 stop_at_end(&mut push_steps);
             }
+            let away = look
+                .then(|| last_rotation(&push_steps))
+                .flatten()
+                .and_then(|rotation| self.out_of_view(rotation, &name));
             steps.extend(push_steps);
+            steps.extend(away);
             jaws = Some(push.fork.opening);
         }
         for (k, rider) in riders.iter().enumerate() {
@@ -119,6 +127,14 @@ fn joined_label(first: &str, second: &str) -> String {
 /// Distance between two points, metres.
 pub(super) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// The tool's rotation at the end of the last move of `steps`.
+pub fn last_rotation(steps: &[Step]) -> Option<[f64; 3]> {
+    steps.iter().rev().find_map(|step| match &step.action {
+        Action::Move { moves } => moves.last().map(|m| m.to.rotation),
+        Action::Gripper { .. } => None,
+    })
 }
 
 /// Makes the last move of `steps` stop at its end (the arm waits there, for a look).

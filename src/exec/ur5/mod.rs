@@ -35,8 +35,8 @@ use serde::{Deserialize, Serialize};
 pub use calibration::{Calibration, Correspondence};
 pub use camera::DepthLook;
 pub use config::{
-    BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, RobotConfig,
-    SafetyConfig, SpeedsConfig, TimeoutsConfig,
+    BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, LookConfig,
+    RobotConfig, SafetyConfig, SpeedsConfig, TimeoutsConfig,
 };
 pub use fits::{FIT_TOLERANCE, check_trip_fits};
 pub use link::{DryRun, Fault, Live, RobotLink};
@@ -427,8 +427,20 @@ impl<L: RobotLink> Executor for Ur5<L> {
     /// The table as last read: read again when nothing was read yet or the arm has pushed since
     /// (after a grasp the table is read anyway, to see what was carried).
     fn observe(&mut self) -> Result<Scene> {
+        let rotation = self
+            .rise
+            .as_ref()
+            .and_then(|rise| blend::last_rotation(std::slice::from_ref(rise)));
         self.finish_rise()?;
         if self.scene.is_none() || self.pushed {
+            // A look during a trip: the arm leaves the camera's view first, if told where to.
+            let away = rotation.filter(|_| self.pushed).and_then(|rotation| {
+                let name = format!("trip {}, look", self.record.len());
+                self.runner.translator().out_of_view(rotation, &name)
+            });
+            if let Some(step) = away {
+                self.runner.run(vec![step])?;
+            }
             let seen = self
                 .observation
                 .read_after(self.scene.as_ref(), &self.pushes)?;

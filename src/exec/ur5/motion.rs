@@ -120,6 +120,8 @@ pub enum Phase {
     Release,
     /// Rider: rise from it.
     RiseFromRider,
+    /// Look: move out of the camera's view and wait there while the table is looked at.
+    OutOfView,
 }
 
 /// The tool's yaw for jaws along `jaw_angle`, folded into (−π/2, π/2] (the jaws are symmetric
@@ -328,6 +330,22 @@ impl Translator {
                 ),
             ])
             .collect()
+    }
+
+    /// The move out of the camera's view before a look during a trip (`look.wait`), the tool
+    /// turned as `rotation` (as it stood); `None` when the configuration has no waiting pose and
+    /// the arm waits where it stopped. The move stops there: the look waits for it.
+    pub fn out_of_view(&self, rotation: [f64; 3], name: &str) -> Option<Step> {
+        let look = self.config.look.as_ref()?;
+        let to = ToolPose {
+            position: look.wait,
+            rotation,
+        };
+        Some(Self::moves(
+            Phase::OutOfView,
+            format!("{name}: move out of the camera's view and wait for the look"),
+            vec![self.travel(to)],
+        ))
     }
 
     /// The six steps of a grasp and its trip to the bin, planned on `scene`.

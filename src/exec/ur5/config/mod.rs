@@ -35,6 +35,10 @@ pub struct RobotConfig {
     pub speeds: SpeedsConfig,
     /// Where the bin is.
     pub bin: BinConfig,
+    /// Where the arm waits while the camera looks at the table during a trip. Absent: it waits
+    /// where it stopped, above its last push.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub look: Option<LookConfig>,
     /// The Robotiq gripper.
     #[serde(default)]
     pub gripper: GripperConfig,
@@ -167,6 +171,19 @@ pub struct BinConfig {
     /// Tool centre point above the bin when the jaws open, `[x, y, z]` in the base frame, metres.
     #[serde(deserialize_with = "crate::json::exact_array")]
     pub drop: [f64; 3],
+}
+
+/// A look at the table during a trip (after pushes, when the loop looks before its grasp): an
+/// overhead camera sees the gripper above the table, so the arm first moves out of its view.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LookConfig {
+    /// Tool centre point where the arm waits, out of the camera's view, `[x, y, z]` in the base
+    /// frame, metres: reached by one straight move from above the last push, and left by one
+    /// straight move to the next action, so both lines must be clear, as the way to the bin is.
+    /// Set the time model's `look_away` to the length of that way.
+    #[serde(deserialize_with = "crate::json::exact_array")]
+    pub wait: [f64; 3],
 }
 
 /// The Robotiq 2F-85 and its calibration (position counts against the gap between the pads).

@@ -233,14 +233,20 @@ impl RobotConfig {
         Ok(())
     }
 
-    /// The safety box and the bin in the base frame, and the calibration's fit.
+    /// The safety box, the bin and the waiting pose in the base frame, and the calibration's fit.
     fn check_workspace(&self) -> Result<()> {
         for axis in 0..3 {
             for (field, value) in [
                 (format!("safety.min[{axis}]"), self.safety.min[axis]),
                 (format!("safety.max[{axis}]"), self.safety.max[axis]),
                 (format!("bin.drop[{axis}]"), self.bin.drop[axis]),
-            ] {
+            ]
+            .into_iter()
+            .chain(
+                self.look
+                    .iter()
+                    .map(|look| (format!("look.wait[{axis}]"), look.wait[axis])),
+            ) {
                 within(
                     &field,
                     value,
