@@ -9,13 +9,17 @@
 //! `experiments/thin-bars.json`); `touching-depth` is `touching` without the labels.
 //! `PUSHMOG_FLYING`, `PUSHMOG_DROPPED` and `PUSHMOG_SIGMA` replace the noise's parameters;
 //! `PUSHMOG_PRIOR=1` gives the true scene as the prior, and the pose's yaw error is measured too.
+//! `PUSHMOG_LIBRARY=1` names the objects from the scenes' object set instead (no prior): how many
+//! take their own shape's name (or that of a shape with the same outline), and the yaw error of the
+//! pose found, up to the shape's symmetries.
 
 use std::collections::BTreeMap;
 
 use nalgebra::Isometry2;
 use pushmog::geometry::{ConvexPolygon, intersection_over_union, min_grasp_diameter};
 use pushmog::perception::{
-    Camera, Depth, DepthNoise, Frame, PerceptionSettings, add_noise, perceive, render_depth,
+    Camera, Depth, DepthNoise, Frame, Identify, PerceptionSettings, add_noise, perceive,
+    render_depth,
 };
 use pushmog::random::SeededRng;
 use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
@@ -38,6 +42,23 @@ fn best_yaw(truth: &ConvexPolygon, seen: &ConvexPolygon) -> (f64, f64) {
 }
 
 /// `labels` with every pixel whose window of radius `r` holds another label set to 0.
+/// The turns (radians, in `[0, 2π)`) that map `shape` onto itself about its centroid: multiples of
+/// a whole turn's `n`-th part for `n` up to 8.
+fn symmetries(shape: &ConvexPolygon) -> Vec<f64> {
+    let centred = shape.translated(&-shape.centroid().coords);
+    let mut turns = vec![0.0];
+    for n in 2..=8 {
+        for j in 1..n {
+            let t = std::f64::consts::TAU * f64::from(j) / f64::from(n);
+            let turned = centred.transformed(&Isometry2::rotation(t));
+            if intersection_over_union(&turned, &centred) > 0.999 {
+                turns.push(t);
+            }
+        }
+    }
+    turns
+}
+
 fn erode(labels: &[u32], width: usize, r: usize) -> Vec<u32> {
     let height = labels.len() / width;
     (0..labels.len())
@@ -157,7 +178,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             },
         };
         let clock = std::time::Instant::now();
-        let seen = perceive(
+        let mut seen = perceive(
             &frame,
             &camera,
             scene.workspace(),
@@ -168,6 +189,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         rows.entry("perceive ms")
             .or_default()
             .push(clock.elapsed().as_secs_f64() * 1e3);
+        let library = std::env::var("PUSHMOG_LIBRARY").is_ok();
+        if library {
+            let clock = std::time::Instant::now();
+            seen.name_from(&set, &Identify::default())?;
+            rows.entry("naming ms")
+                .or_default()
+                .push(clock.elapsed().as_secs_f64() * 1e3);
+        }
         for b in &seen.blobs {
             rows.entry("solidity").or_default().push(b.solidity);
             let s = serde_json::to_value(&b.status)?["status"]
@@ -207,6 +236,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 rows.entry("pose yaw deg")
                     .or_default()
                     .push(turn.abs().to_degrees());
+            }
+            if library {
+                // The name of its own shape, or of one with the same outline (a set may repeat a
+                // shape under several names, as the thin bars do).
+                let own = &scene.objects()[k];
+                let right = set
+                    .objects
+                    .iter()
+                    .find(|s| Some(&s.name) == object.name.as_ref())
+                    .and_then(|s| s.polygon().ok())
+                    .is_some_and(|shape| shape.vertices() == own.polygon.vertices());
+                rows.entry("named right")
+                    .or_default()
+                    .push(f64::from(u8::from(right)));
+                if right {
+                    let turn = object.pose.yaw - own.pose.yaw;
+                    let error = symmetries(&own.polygon)
+                        .iter()
+                        .map(|t| pushmog::geometry::wrap_angle(turn - t).abs())
+                        .fold(f64::INFINITY, f64::min);
+                    rows.entry("named yaw deg")
+                        .or_default()
+                        .push(error.to_degrees());
+                }
             }
             let d = min_grasp_diameter(&print).diameter - scene.min_grasp_diameter(k);
             rows.entry("d* error mm").or_default().push(d * 1e3);

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use nalgebra::{Point2, Vector2};
 use pushmog::geometry::{ConvexPolygon, intersection_over_union};
 use pushmog::perception::{
-    BlobStatus, Camera, Depth, DepthNoise, Frame, Perception, PerceptionSettings, add_noise,
-    perceive, render_depth,
+    BlobStatus, Camera, Depth, DepthNoise, Frame, Identify, Perception, PerceptionSettings,
+    add_noise, perceive, render_depth,
 };
 use pushmog::random::SeededRng;
 use pushmog::scene::{
@@ -143,6 +143,30 @@ fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
         }
         // The look is a valid scene.
         assert_eq!(seen.scene().unwrap().len(), truth.len());
+        // Named from the library, each object takes its own shape's name and frame: that shape
+        // placed at the pose found covers the true outline, so the yaw is right up to the shape's
+        // symmetries.
+        let library = builtin_object_set();
+        let mut named = seen.clone();
+        let count = named.name_from(&library, &Identify::default()).unwrap();
+        assert_eq!(count, truth.len());
+        for object in &named.objects {
+            let c = object.world_polygon().centroid();
+            let k = nearest(&truth, c.x, c.y);
+            assert_eq!(object.name, truth.objects()[k].name, "object {}", object.id);
+            let shape = library
+                .objects
+                .iter()
+                .find(|s| Some(&s.name) == object.name.as_ref())
+                .unwrap();
+            let placed = shape
+                .polygon()
+                .unwrap()
+                .transformed(&object.pose.isometry());
+            let fit = intersection_over_union(truth.world_polygon(k), &placed);
+            assert!(fit >= floor, "object {}: {fit}", object.id);
+        }
+        assert_eq!(named.scene().unwrap().len(), truth.len());
         // With the truth as the prior, every object keeps its id, name and frame: its yaw is the
         // turn measured from the prior's.
         let tracked = perceive(
@@ -640,6 +664,48 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
             (centre - Point2::new(x, y)).norm() < 0.001,
             "{centre} against ({x}, {y})"
         );
+    }
+    // Named from an object set: the boxes take the name of the set's 40 mm box (and its mass);
+    // the built-in set has no shape like them, so they stay unnamed and the report says so.
+    let set = r#"{"name": "cell", "objects": [
+        {"name": "bar", "vertices": [[-0.05, -0.004], [0.05, -0.004], [0.05, 0.004], [-0.05, 0.004]], "height": 0.03},
+        {"name": "box-40", "vertices": [[-0.02, -0.02], [0.02, -0.02], [0.02, 0.02], [-0.02, 0.02]], "height": 0.03, "mass": 0.05}
+    ]}"#;
+    std::fs::write(dir.join("set.json"), set).unwrap();
+    for (library, name) in [(path("set.json"), Some("box-40")), ("builtin".into(), None)] {
+        let out = pushmog(&[
+            "perceive",
+            "--camera",
+            &path("camera.toml"),
+            "--depth",
+            &path("depth.npy"),
+            "--state",
+            &path("state.json"),
+            "--library",
+            &library,
+            "-o",
+            &path("named.json"),
+            "--report",
+            &path("report.json"),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let named = read_scene(&dir.join("named.json"));
+        assert_eq!(named.len(), 3);
+        for object in named.objects() {
+            assert_eq!(object.name.as_deref(), name, "{library}");
+            assert_eq!(object.mass, name.map(|_| 0.05));
+        }
+        let report = std::fs::read_to_string(dir.join("report.json")).unwrap();
+        let said = if name.is_some() {
+            "named box-40 from the set cell"
+        } else {
+            "no shape of the set pushmog-34 fits it"
+        };
+        assert_eq!(report.matches(said).count(), 3, "{report}");
     }
     // A camera file that is not a rotation is refused, naming the field, with exit code 1.
     let bad = camera_toml(&camera, None).replace("rotation = [[1.0", "rotation = [[1.5");

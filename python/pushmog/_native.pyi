@@ -59,5 +59,6 @@ def perceive(
     state: Scene,
     prior: Optional[Scene],
     settings: Optional[str],
+    library: Optional[str] = None,
 ) -> tuple[str, Optional[Scene], Optional[str]]: ...
 def render(scene: Scene, camera: str, noise: Optional[str] = None, seed: int = 0) -> tuple[bytes, bytes, list[int]]: ...

@@ -117,12 +117,16 @@ def perceive(
     workspace: Union[Scene, Sequence[Sequence[float]], None] = None,
     prior: Optional[Scene] = None,
     settings: Optional[Mapping] = None,
+    library: Union[str, Mapping, None] = None,
 ) -> Perception:
     """One look: ``depth`` a ``(height, width)`` array of metres (float) or of ``camera.depth_scale``
     units (uint16), ``labels`` an integer array (0 for none), ``heights`` the top height of each label
     when there is no depth. ``workspace`` is a scene whose workspace and gripper the look is for, or
     the corners ``((x0, y0), (x1, y1))``; by default the prior's. ``prior`` is the last look or the
-    scene predicted after the pushes; its ids are kept. The GIL is released while Rust works."""
+    scene predicted after the pushes; its ids are kept. ``library`` (an object set as a mapping, as
+    ``pushmog library`` writes it, or ``"builtin"``) names the objects seen without a prior: each
+    takes the name, mass and frame (so the yaw) of the set's shape that fits its outline best, when
+    one fits; the adjustments say which. The GIL is released while Rust works."""
     if not isinstance(camera, Camera):
         raise TypeError(f"expected a pushmog.Camera, got {type(camera).__name__}")
     if isinstance(workspace, Scene):
@@ -156,6 +160,7 @@ def perceive(
         state._native,
         None if prior is None else prior._native,
         None if settings is None else json.dumps(dict(settings)),
+        None if library is None else library if isinstance(library, str) else json.dumps(dict(library)),
     )
     document = json.loads(report)
     return Perception(

@@ -5,9 +5,11 @@ use std::collections::BTreeMap;
 
 use pushmog::json::{self, to_json};
 use pushmog::perception::{
-    Camera, Depth, DepthNoise, Frame, PerceptionSettings, add_noise, perceive as look, render_depth,
+    Camera, Depth, DepthNoise, Frame, Identify, PerceptionSettings, add_noise, perceive as look,
+    render_depth,
 };
 use pushmog::random::SeededRng;
+use pushmog::scene::{ObjectSet, builtin_object_set};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
@@ -33,10 +35,12 @@ fn values<T, const N: usize>(
 }
 
 /// One look (`pushmog::perception::perceive`): depth as `float32` metres (`depth_kind = "f32"`) or
-/// `uint16` units (`"u16"`), labels as `uint32`, heights per label as JSON. Returns the report as
-/// JSON, the objects as a scene when no blob blocks planning, and otherwise the reason.
+/// `uint16` units (`"u16"`), labels as `uint32`, heights per label as JSON. With `library` (an
+/// object set as JSON, or `"builtin"`) objects seen without a prior are named from it
+/// (`Perception::name_from`). Returns the report as JSON, the objects as a scene when no blob
+/// blocks planning, and otherwise the reason.
 #[pyfunction]
-#[pyo3(signature = (camera, depth, depth_kind, labels, heights, state, prior, settings))]
+#[pyo3(signature = (camera, depth, depth_kind, labels, heights, state, prior, settings, library = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn perceive(
     py: Python<'_>,
@@ -48,7 +52,17 @@ pub fn perceive(
     state: &Scene,
     prior: Option<&Scene>,
     settings: Option<&str>,
+    library: Option<&str>,
 ) -> PyResult<(String, Option<Scene>, Option<String>)> {
+    let library: Option<ObjectSet> = match library {
+        Some("builtin") => Some(builtin_object_set()),
+        Some(text) => {
+            let set: ObjectSet = check_settings(json::from_json(text, "library"))?;
+            check_settings(set.validate())?;
+            Some(set)
+        }
+        None => None,
+    };
     let camera: Camera = check_settings(json::from_json(camera, "camera"))?;
     let settings: PerceptionSettings = match settings {
         Some(text) => check_settings(json::from_json(text, "settings"))?,
@@ -80,8 +94,14 @@ pub fn perceive(
     };
     let (workspace, gripper) = (state.scene.workspace(), state.scene.gripper());
     let prior = prior.map(|p| &p.scene);
-    let seen = py.detach(|| look(&frame, &camera, workspace, gripper, prior, &settings));
-    // Every error of a look is one of its inputs: the camera, an image, the settings.
+    let seen = py.detach(|| {
+        let mut seen = look(&frame, &camera, workspace, gripper, prior, &settings)?;
+        if let Some(set) = &library {
+            seen.name_from(set, &Identify::default())?;
+        }
+        Ok::<_, pushmog::Error>(seen)
+    });
+    // Every error of a look is one of its inputs: the camera, an image, the settings, the set.
     let seen = check_settings(seen)?;
     let report = to_json(&seen.report());
     Ok(match seen.scene() {

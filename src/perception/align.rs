@@ -19,23 +19,53 @@ pub const TURN_REACH: f64 = 0.35;
 /// The pose and own-frame outline of `seen` (a table-frame outline) in the frame of `prior`.
 pub fn in_prior_frame(seen: &ConvexPolygon, prior: &Object) -> (Pose, ConvexPolygon) {
     let before = prior.world_polygon();
+    let (turn, _) = best_turn(&before, seen, TURN_REACH, 1f64.to_radians());
+    in_frame(seen, &before, prior.pose, turn)
+}
+
+/// The pose and own-frame outline of `seen` in the frame of an object whose table-frame outline is
+/// `before` at `pose`, turned by `turn` about the centroids: the origin's offset from `before`'s
+/// centroid is carried along.
+pub fn in_frame(
+    seen: &ConvexPolygon,
+    before: &ConvexPolygon,
+    pose: Pose,
+    turn: f64,
+) -> (Pose, ConvexPolygon) {
+    let (c_p, c_q) = (before.centroid(), seen.centroid());
+    let offset = Vector2::new(pose.x, pose.y) - c_p.coords;
+    let origin = c_q.coords + Isometry2::rotation(turn) * offset;
+    let pose = Pose::new(origin.x, origin.y, pose.yaw + turn);
+    let own = seen.transformed(&pose.isometry().inverse());
+    (pose, own)
+}
+
+/// The turn `δ*` within `reach` of 0 that best fits `before` onto `seen`, both about their area
+/// centroids, with its IoU: the best point of a grid of `step`, refined by golden-section search
+/// within a step either side to 0.01°.
+pub fn best_turn(
+    before: &ConvexPolygon,
+    seen: &ConvexPolygon,
+    reach: f64,
+    step: f64,
+) -> (f64, f64) {
     let (c_p, c_q) = (before.centroid(), seen.centroid());
     let p = before.translated(&-c_p.coords);
     let q = seen.translated(&-c_q.coords);
     let fit = |turn: f64| intersection_over_union(&p.transformed(&Isometry2::rotation(turn)), &q);
-    let steps = (TURN_REACH.to_degrees().round()) as i32;
+    let steps = (reach / step).round() as i32;
     let mut best = (0.0, fit(0.0));
     for k in -steps..=steps {
-        let turn = f64::from(k).to_radians();
+        let turn = f64::from(k) * step;
         let value = fit(turn);
         if value > best.1 {
             best = (turn, value);
         }
     }
-    // Golden-section search within a degree either side of the best grid point.
+    // Golden-section search within a step either side of the best grid point.
     let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
     // Each step keeps one interior point and its fit, and evaluates one new point.
-    let (mut low, mut high) = (best.0 - 1f64.to_radians(), best.0 + 1f64.to_radians());
+    let (mut low, mut high) = (best.0 - step, best.0 + step);
     let (mut a, mut b) = (high - ratio * (high - low), low + ratio * (high - low));
     let (mut fit_a, mut fit_b) = (fit(a), fit(b));
     while high - low > 0.01_f64.to_radians() {
@@ -50,12 +80,8 @@ pub fn in_prior_frame(seen: &ConvexPolygon, prior: &Object) -> (Pose, ConvexPoly
         }
     }
     let turn = 0.5 * (low + high);
-    let turn = if fit(turn) >= best.1 { turn } else { best.0 };
-    let offset = Vector2::new(prior.pose.x, prior.pose.y) - c_p.coords;
-    let origin = c_q.coords + Isometry2::rotation(turn) * offset;
-    let pose = Pose::new(origin.x, origin.y, prior.pose.yaw + turn);
-    let own = seen.transformed(&pose.isometry().inverse());
-    (pose, own)
+    let value = fit(turn);
+    if value >= best.1 { (turn, value) } else { best }
 }
 
 #[cfg(test)]

@@ -13,7 +13,10 @@
 //! - every blob gets a [`BlobStatus`]; those that block planning keep [`Perception::scene`] from
 //!   giving a scene, so nothing in view is dropped silently;
 //! - ids are kept by matching centroids to a prior scene (`track.rs`), and an object the prior holds
-//!   keeps the prior's frame, turned by the angle that fits its outline best (`align.rs`).
+//!   keeps the prior's frame, turned by the angle that fits its outline best (`align.rs`);
+//! - an object without a prior can be named from a known object set
+//!   ([`Perception::name_from`], `identify.rs`): the set's shape that fits its outline best over
+//!   every turn gives its name, mass and frame, so its yaw is measured.
 //!
 //! [`render_depth`] and [`add_noise`] make frames of known scenes: test support, and a camera for
 //! the simulator. [`read_npy`] reads NumPy's `.npy` images; [`overlay_svg`] draws a look's blobs
@@ -24,6 +27,7 @@ mod blob;
 mod blobs;
 mod camera;
 mod footprint;
+mod identify;
 mod input;
 mod noise;
 mod npy;
@@ -36,6 +40,7 @@ mod table;
 mod track;
 
 pub use camera::{Camera, DepthUnits, Extrinsics, Intrinsics, KNOWN_SCALES, MAX_CAMERA_TILT};
+pub use identify::{Identify, Match, best_shape, name_from_set};
 pub use input::{Depth, Frame};
 pub use noise::{DepthNoise, add_noise};
 pub use npy::{Npy, NpyData, read_npy, write_npy_f32, write_npy_u32};

@@ -4,10 +4,11 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::identify::{Identify, name_from_set};
 use super::table::TablePlane;
 use crate::error::{Error, Result};
 use crate::id::ObjectId;
-use crate::scene::{Gripper, Object, Scene, Workspace};
+use crate::scene::{Gripper, Object, ObjectSet, Scene, Workspace};
 
 /// What became of one blob. The first four are notices; every other status blocks
 /// [`Perception::scene`], because planning on such a scene could act on an object it does not see.
@@ -132,6 +133,34 @@ impl Perception {
             gone: self.gone.clone(),
             adjustments: self.adjustments.clone(),
         }
+    }
+
+    /// Names the objects seen without a prior (no name) from `set`: each takes the frame, name and
+    /// mass of the set's shape that fits its outline best, when one fits well enough
+    /// (`identify.rs`); an adjustment says which shape and how well, or that none fitted.
+    /// Objects the prior named keep their names. Returns how many were named.
+    ///
+    /// # Errors
+    /// A shape of the set whose outline is not convex (named).
+    pub fn name_from(&mut self, set: &ObjectSet, rule: &Identify) -> Result<usize> {
+        let mut named = 0;
+        for object in self.objects.iter_mut().filter(|o| o.name.is_none()) {
+            let note = match name_from_set(object, set, rule)? {
+                Some(found) => {
+                    named += 1;
+                    format!(
+                        "object {}: named {} from the set {} (IoU {:.3})",
+                        object.id, set.objects[found.shape].name, set.name, found.iou
+                    )
+                }
+                None => format!(
+                    "object {}: no shape of the set {} fits it; left unnamed, yaw 0",
+                    object.id, set.name
+                ),
+            };
+            self.adjustments.push(note);
+        }
+        Ok(named)
     }
 
     /// The blobs whose status blocks planning.

@@ -381,6 +381,12 @@ struct PerceiveArgs {
     /// Perception settings as JSON (`pushmog schema perception-settings`).
     #[arg(long)]
     settings: Option<PathBuf>,
+    /// Names objects seen without a prior from an object set (a JSON file, `pushmog schema
+    /// object-set`, or `builtin` for the built-in 34 shapes): each takes the name, mass and frame,
+    /// so the yaw, of the set's shape that fits its outline best, when one fits (IoU ≥ 0.85, height
+    /// within 5 mm); the report's adjustments say which.
+    #[arg(long)]
+    library: Option<PathBuf>,
     /// The scene file to write (default: standard output).
     #[arg(short, long)]
     output: Option<PathBuf>,

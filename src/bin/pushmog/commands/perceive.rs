@@ -6,9 +6,10 @@ use std::path::Path;
 use pushmog::error::{Error, Result};
 use pushmog::json::{self, to_json};
 use pushmog::perception::{
-    Camera, Frame, Npy, NpyData, PerceptionSettings, overlay_svg, perceive as look, read_npy,
+    Camera, Frame, Identify, Npy, NpyData, PerceptionSettings, overlay_svg, perceive as look,
+    read_npy,
 };
-use pushmog::scene::{Gripper, Scene, Workspace};
+use pushmog::scene::{Gripper, ObjectSet, Scene, Workspace, builtin_object_set};
 
 use crate::PerceiveArgs;
 
@@ -125,7 +126,7 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         labels: label_values.as_deref(),
         heights: heights.as_ref(),
     };
-    let seen = look(
+    let mut seen = look(
         &frame,
         &camera,
         &workspace,
@@ -133,6 +134,17 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         prior.as_ref(),
         &settings,
     )?;
+    if let Some(path) = args.library.as_deref() {
+        let set = if path == Path::new("builtin") {
+            builtin_object_set()
+        } else {
+            let set: ObjectSet =
+                json::from_json(&json::read_text(path)?, &path.display().to_string())?;
+            set.validate()?;
+            set
+        };
+        seen.name_from(&set, &Identify::default())?;
+    }
     if let Some(path) = &args.report {
         json::write_text(path, &to_json(&seen.report()))?;
     }
