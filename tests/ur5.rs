@@ -726,6 +726,7 @@ fn camera_replay(name: &str) -> (DepthLook, Plan, Policy) {
         command,
         table: first,
         settings: PerceptionSettings::default(),
+        library: Some(pushmog::scene::builtin_object_set()),
     };
     (look, reference, policy)
 }
@@ -739,8 +740,15 @@ fn the_closed_loop_sees_through_a_depth_camera_and_keeps_the_ids() {
     let (look, reference, policy) = camera_replay("ur5-camera");
     let first = look.table.clone();
     let observation = Observation::Camera(Box::new(look));
-    // The first look has no prior: the ids are the labels, one object per object.
-    assert_eq!(observation.read().unwrap().len(), first.len());
+    // The first look has no prior: the ids are the labels, one object per object, each named from
+    // the library as the table's own object is.
+    let seen = observation.read().unwrap();
+    assert_eq!(seen.len(), first.len());
+    let mut names: Vec<_> = seen.objects().iter().map(|o| o.name.clone()).collect();
+    let mut truth: Vec<_> = first.objects().iter().map(|o| o.name.clone()).collect();
+    names.sort();
+    truth.sort();
+    assert_eq!(names, truth);
     let (controller, gripper) = fakes(ControllerFaults::default(), GripperFaults::default());
     let config = config_for(&controller, &gripper);
     let mut robot = Ur5::new(live_runner(&config), observation);
@@ -821,6 +829,8 @@ fn the_cli_runs_a_closed_loop_through_a_depth_camera() {
         &path("state.json"),
         "--observe-command",
         &look.command,
+        "--library",
+        "builtin",
         "--seed",
         "5",
         "--execute",
@@ -829,6 +839,16 @@ fn the_cli_runs_a_closed_loop_through_a_depth_camera() {
     ]);
     let run = cleared_run(&out, &dir.join("out"));
     assert_eq!(run.trips.len(), reference.trips.len());
+    // The objects of the first look were named from the library, as the table's own are.
+    let names = |scene: &SceneSpec| {
+        let mut names: Vec<_> = scene.objects.iter().map(|o| o.name.clone()).collect();
+        names.sort();
+        names
+    };
+    assert_eq!(
+        names(&run.trips[0].scene.to_spec()),
+        names(&look.table.to_spec())
+    );
 }
 
 #[test]

@@ -14,7 +14,7 @@ use pushmog::policy::Run;
 use pushmog::scene::Scene;
 
 use super::ExecuteArgs;
-use super::commands::{policy, read_camera, read_scene, summary};
+use super::commands::{policy, read_camera, read_library, read_scene, summary};
 
 fn print_step(index: usize, step: &Step) {
     eprintln!("done {index:4}  {}", step.label);
@@ -108,6 +108,7 @@ pub fn execute(args: &ExecuteArgs) -> Result<()> {
             command: command.clone(),
             table: read_scene(args.state.as_deref().unwrap_or(Path::new("-")))?,
             settings: PerceptionSettings::default(),
+            library: args.library.as_deref().map(read_library).transpose()?,
         }))),
         (None, Some(command), None) => Some(Observation::Command(command.clone())),
         (None, None, _) => None,

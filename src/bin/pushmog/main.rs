@@ -208,6 +208,10 @@ struct ExecuteArgs {
     /// With `--camera`: a scene file whose workspace and gripper the looks are for.
     #[arg(long, requires = "camera")]
     state: Option<PathBuf>,
+    /// With `--camera`: the cell's object set (a JSON file, or `builtin`), from which objects seen
+    /// without a prior (the first look's) are named, as `pushmog perceive --library` does.
+    #[arg(long, requires = "camera")]
+    library: Option<PathBuf>,
     /// Policy of the closed loop.
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,

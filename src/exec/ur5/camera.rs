@@ -14,8 +14,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::perception::{Camera, Frame, PerceptionSettings, perceive, read_npy};
-use crate::scene::Scene;
+use crate::perception::{Camera, Frame, Identify, PerceptionSettings, perceive, read_npy};
+use crate::scene::{ObjectSet, Scene};
 
 /// A depth camera read by a shell command, for the table the robot works on.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,6 +28,9 @@ pub struct DepthLook {
     pub table: Scene,
     /// How frames are perceived.
     pub settings: PerceptionSettings,
+    /// The cell's object set, if known: objects seen without a prior (those of the first look, and
+    /// any new one) are named from it (`Perception::name_from`).
+    pub library: Option<ObjectSet>,
 }
 
 impl DepthLook {
@@ -89,7 +92,7 @@ impl DepthLook {
             labels: labels.as_deref(),
             heights: None,
         };
-        let seen = perceive(
+        let mut seen = perceive(
             &frame,
             &self.camera,
             self.table.workspace(),
@@ -97,6 +100,9 @@ impl DepthLook {
             prior,
             &self.settings,
         )?;
+        if let Some(set) = &self.library {
+            seen.name_from(set, &Identify::default())?;
+        }
         seen.scene()
     }
 }

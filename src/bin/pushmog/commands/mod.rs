@@ -13,6 +13,6 @@ pub use experiment::{experiment, merge, report};
 pub use files::{render, schema, verify};
 pub(crate) use io::{policy, read_scene, summary};
 pub use perceive::perceive;
-pub(crate) use perceive::read_camera;
+pub(crate) use perceive::{read_camera, read_library};
 pub use run::{cluster, plan, run};
 pub use scene::{check, demo, generate, library};

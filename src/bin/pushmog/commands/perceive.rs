@@ -83,6 +83,16 @@ fn read_for(path: Option<&Path>, camera: &Camera, flag: &str) -> Result<Option<N
     Ok(Some(image))
 }
 
+/// An object set from a JSON file, or the built-in one for `builtin`.
+pub(crate) fn read_library(path: &Path) -> Result<ObjectSet> {
+    if path == Path::new("builtin") {
+        return Ok(builtin_object_set());
+    }
+    let set: ObjectSet = json::from_json(&json::read_text(path)?, &path.display().to_string())?;
+    set.validate()?;
+    Ok(set)
+}
+
 /// The camera from a TOML file (or JSON, by its extension).
 pub(crate) fn read_camera(path: &Path) -> Result<Camera> {
     let name = path.display().to_string();
@@ -135,15 +145,7 @@ pub fn perceive(args: &PerceiveArgs) -> Result<()> {
         &settings,
     )?;
     if let Some(path) = args.library.as_deref() {
-        let set = if path == Path::new("builtin") {
-            builtin_object_set()
-        } else {
-            let set: ObjectSet =
-                json::from_json(&json::read_text(path)?, &path.display().to_string())?;
-            set.validate()?;
-            set
-        };
-        seen.name_from(&set, &Identify::default())?;
+        seen.name_from(&read_library(path)?, &Identify::default())?;
     }
     if let Some(path) = &args.report {
         json::write_text(path, &to_json(&seen.report()))?;
