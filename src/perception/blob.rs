@@ -94,23 +94,17 @@ pub fn above_cut(heights: &[f64], i: usize, width: usize, cut: f64) -> bool {
         >= 3
 }
 
-/// The pixels of `pixels` that hold at least 5 of the 9 pixels of their 3×3 window: a pixel at an
-/// edge whose depth noise put it on the wrong side of the cut is outvoted by its neighbours.
-fn majority(pixels: &[usize], width: usize) -> Vec<usize> {
-    let window = super::blobs::Window::around(pixels, width);
-    pixels
-        .iter()
-        .copied()
-        .filter(|&i| {
-            let (u, v) = ((i % width) as isize, (i / width) as isize);
-            let mut count = 0;
-            for dv in -1..=1 {
-                for du in -1..=1 {
-                    count += usize::from(window.holds(u + du, v + dv));
-                }
-            }
-            count >= 5
-        })
+/// The 3×3 median of `pixels` in an image `width` × `height`: every pixel, of the blob or next to
+/// it, whose window holds at least 5 of the blob's 9. A pixel at an edge whose depth noise put it on
+/// the wrong side of the cut is outvoted by its neighbours, on either side of the edge alike, so the
+/// edge stays where it was.
+fn majority(pixels: &[usize], width: usize, height: usize) -> Vec<usize> {
+    let (w, h) = (width as isize, height as isize);
+    super::blobs::Window::around(pixels, width)
+        .median()
+        .into_iter()
+        .filter(|&(u, v)| u >= 0 && v >= 0 && u < w && v < h)
+        .map(|(u, v)| (v * w + u) as usize)
         .collect()
 }
 
@@ -190,7 +184,7 @@ pub fn judge(
                 .copied()
                 .filter(|&i| above_cut(h, i, width, cut))
                 .collect();
-            (majority(&above, width), cut)
+            (majority(&above, width, height), cut)
         }
         _ => (blob.pixels.clone(), blob.cut),
     };

@@ -127,6 +127,41 @@ impl Window {
         }
     }
 
+    /// The pixels `(u, v)` of the box, its margin included, whose 3×3 window holds at least 5 of
+    /// the blob's pixels: the blob's 3×3 median. Counted with running sums, row then column.
+    pub fn median(&self) -> Vec<(isize, isize)> {
+        let (columns, rows) = (self.columns as usize, self.rows as usize);
+        let at = |x: usize, y: usize| u8::from(self.set[y * columns + x]);
+        // Each cell's count over its row's three cells, then over three such rows.
+        let mut across = vec![0_u8; columns * rows];
+        for y in 0..rows {
+            for x in 0..columns {
+                let left = if x > 0 { at(x - 1, y) } else { 0 };
+                let right = if x + 1 < columns { at(x + 1, y) } else { 0 };
+                across[y * columns + x] = left + at(x, y) + right;
+            }
+        }
+        let mut kept = Vec::new();
+        for y in 0..rows {
+            for x in 0..columns {
+                let up = if y > 0 {
+                    across[(y - 1) * columns + x]
+                } else {
+                    0
+                };
+                let down = if y + 1 < rows {
+                    across[(y + 1) * columns + x]
+                } else {
+                    0
+                };
+                if up + across[y * columns + x] + down >= 5 {
+                    kept.push((self.u0 + x as isize, self.v0 + y as isize));
+                }
+            }
+        }
+        kept
+    }
+
     /// Whether pixel `(u, v)` is one of the blob's.
     pub fn holds(&self, u: isize, v: isize) -> bool {
         let (x, y) = (u - self.u0, v - self.v0);
