@@ -5,7 +5,7 @@ use nalgebra::Point2;
 
 use super::blobs::four_neighbours;
 use super::camera::Camera;
-use super::footprint::{footprint, image_hull};
+use super::footprint::{footprint, footprint_by_edges, image_hull};
 use super::report::BlobStatus;
 use super::settings::PerceptionSettings;
 use super::table::TablePlane;
@@ -108,6 +108,56 @@ fn majority(pixels: &[usize], width: usize, height: usize) -> Vec<usize> {
         .collect()
 }
 
+/// For each edge of the counter-clockwise image loop `corners`, the height at which the blob's
+/// silhouette stands along it: the tenth percentile of the heights of the blob's pixels whose
+/// centres lie within `SILHOUETTE_BAND` pixels inside the edge and along it, kept within
+/// `[cut, top]`; the cut for an edge with no such pixel. Along a wall the camera sees, the outermost
+/// pixels stand just above the cut, so the edge is the cut's, as in the two-plane method. Along a
+/// top whose wall a neighbour hides they stand at the top, and so does the edge. Where a wall shows
+/// only narrowly (an edge seen almost end-on, or near the nadir), the edge stands in between, off by
+/// at most that narrow wall's width.
+fn silhouette_heights(
+    corners: &[Point2<f64>],
+    pixels: &[usize],
+    heights: &[f64],
+    width: usize,
+    (cut, top): (f64, f64),
+) -> Vec<f64> {
+    let n = corners.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (corners[k], corners[(k + 1) % n]);
+            let edge = b - a;
+            let length = edge.norm();
+            if length < 1e-9 {
+                return cut;
+            }
+            let outward = nalgebra::Vector2::new(edge.y, -edge.x) / length;
+            let mut band: Vec<f64> = pixels
+                .iter()
+                .filter_map(|&i| {
+                    let p = Point2::new((i % width) as f64, (i / width) as f64);
+                    let inside = outward.dot(&(a - p));
+                    let along = edge.dot(&(p - a)) / (length * length);
+                    let near =
+                        (0.0..=SILHOUETTE_BAND).contains(&inside) && (0.0..=1.0).contains(&along);
+                    (near && heights[i].is_finite()).then_some(heights[i])
+                })
+                .collect();
+            if band.is_empty() {
+                return cut;
+            }
+            band.sort_by(f64::total_cmp);
+            band[band.len() / 10].clamp(cut, top)
+        })
+        .collect()
+}
+
+/// How far inside an edge of the image hull, pixels, the pixels lie whose heights say where the
+/// silhouette along it stands: the outermost row (the hull's offset puts its edges about half a
+/// pixel outside their centres).
+const SILHOUETTE_BAND: f64 = 1.5;
+
 /// The pixel box of `pixels`, and whether it touches the image's border.
 fn pixel_box(pixels: &[usize], width: usize, height: usize) -> ([usize; 4], bool) {
     let mut b = [usize::MAX, usize::MAX, 0, 0];
@@ -197,7 +247,15 @@ pub fn judge(
         None => cut.max(settings.cut_height),
     };
     let print = match (&hull, top) {
-        (Some(hull), Some(top)) if top > lowest_top => footprint(hull, camera, table, top, cut),
+        (Some(hull), Some(top)) if top > lowest_top => match heights {
+            // With depth, each edge of the hull is back-projected at the height its silhouette
+            // stands at: the cut where a wall shows, the top where a neighbour hides it.
+            Some(h) if blob.given_height.is_none() => {
+                let lifts = silhouette_heights(&hull.corners, &pixels, h, width, (cut, top));
+                footprint_by_edges(hull, camera, table, top, &lifts)
+            }
+            _ => footprint(hull, camera, table, top, cut),
+        },
         _ => None,
     };
     let measured = Measured {

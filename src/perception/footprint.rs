@@ -22,7 +22,7 @@ use nalgebra::{Point2, Vector2};
 
 use super::camera::Camera;
 use super::table::TablePlane;
-use crate::geometry::{ConvexPolygon, convex_hull, intersection, loop_area, tidy_polygon};
+use crate::geometry::{ConvexPolygon, clip, convex_hull, intersection, loop_area, tidy_polygon};
 
 /// A blob's image hull, before back-projection.
 #[derive(Clone, Debug)]
@@ -160,6 +160,50 @@ pub fn footprint(
     let high = back_project(&hull.corners, camera, table, top)?;
     let low = back_project(&hull.corners, camera, table, cut)?;
     tidy_polygon(&intersection(&high, &low))
+}
+
+/// As [`footprint`], each edge `k` of the image hull (from corner `k` to `k + 1`) back-projected
+/// onto the plane `lifts[k]` above the table instead of the cut plane: the height at which the
+/// silhouette along that edge stands. Where the blob's edge shows a wall, that is the cut; where a
+/// neighbour hides the wall, the top's edge is the silhouette, and its own height puts it back where
+/// it is (`formulations/perception.md`, "Why touching objects come out small").
+pub fn footprint_by_edges(
+    hull: &ImageHull,
+    camera: &Camera,
+    table: &TablePlane,
+    top: f64,
+    lifts: &[f64],
+) -> Option<ConvexPolygon> {
+    let corners = &hull.corners;
+    let n = corners.len();
+    if lifts.len() != n {
+        return None;
+    }
+    let mut print = back_project(corners, camera, table, top)?;
+    let centre = camera.centre();
+    let meet = |c: &Point2<f64>, lift: f64| {
+        table
+            .meet(&centre, &camera.ray(c.x, c.y), lift)
+            .map(|p| Point2::new(p.x, p.y))
+    };
+    // The side of each back-projected edge the blob lies on: that of the top's centroid.
+    let inside = print.centroid();
+    for k in 0..n {
+        let (a, b) = (
+            meet(&corners[k], lifts[k])?,
+            meet(&corners[(k + 1) % n], lifts[k])?,
+        );
+        let along = b - a;
+        if along.norm() < 1e-12 {
+            continue;
+        }
+        let mut normal = Vector2::new(along.y, -along.x).normalize();
+        if normal.dot(&(inside - a)) > 0.0 {
+            normal = -normal;
+        }
+        print = tidy_polygon(&clip(print.vertices(), &normal, normal.dot(&a.coords)))?;
+    }
+    Some(print)
 }
 
 #[cfg(test)]
