@@ -123,6 +123,13 @@ fn silhouette_heights(
     width: usize,
     (cut, top): (f64, f64),
 ) -> Vec<f64> {
+    // The pixels by row, so that each edge looks only at the rows it spans.
+    let first = pixels.iter().map(|&i| i / width).min().unwrap_or(0);
+    let last = pixels.iter().map(|&i| i / width).max().unwrap_or(0);
+    let mut rows: Vec<Vec<usize>> = vec![Vec::new(); last - first + 1];
+    for &i in pixels {
+        rows[i / width - first].push(i);
+    }
     let n = corners.len();
     (0..n)
         .map(|k| {
@@ -133,8 +140,20 @@ fn silhouette_heights(
                 return cut;
             }
             let outward = nalgebra::Vector2::new(edge.y, -edge.x) / length;
-            let mut band: Vec<f64> = pixels
+            // Every pixel near the edge lies within the band's width of its rows.
+            let (low, high) = (
+                a.y.min(b.y) - SILHOUETTE_BAND,
+                a.y.max(b.y) + SILHOUETTE_BAND,
+            );
+            let from = (low.ceil().max(first as f64) as usize).saturating_sub(first);
+            let to = (high.floor().max(0.0) as usize)
+                .min(last)
+                .saturating_sub(first);
+            let mut band: Vec<f64> = rows
+                .get(from..=to)
+                .unwrap_or(&[])
                 .iter()
+                .flatten()
                 .filter_map(|&i| {
                     let p = Point2::new((i % width) as f64, (i / width) as f64);
                     let inside = outward.dot(&(a - p));
