@@ -556,6 +556,16 @@ fn camera_toml(camera: &Camera, scale: Option<f64>) -> String {
     )
 }
 
+/// Runs the command line with `args`, which must succeed.
+fn succeeds(args: &[&str]) {
+    let out = crate::support::pushmog(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// The scene file at `path`.
 fn read_scene(path: &std::path::Path) -> Scene {
     let text = std::fs::read_to_string(path).unwrap();
@@ -597,7 +607,7 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
     std::fs::write(dir.join("depth.png"), grey_png(units, 640, 480)).unwrap();
     let path = |name: &str| dir.join(name).display().to_string();
     for depth in ["depth.npy", "depth.png"] {
-        let out = pushmog(&[
+        succeeds(&[
             "perceive",
             "--camera",
             &path("camera.toml"),
@@ -612,11 +622,6 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
             "--overlay",
             &path("overlay.svg"),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let scene = read_scene(&dir.join("scene.json"));
         assert_eq!(scene.len(), 3, "{depth}");
         let report: serde_json::Value =
@@ -637,7 +642,7 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
         r#"{"1": 0.03, "2": 0.03, "3": 0.03}"#,
     )
     .unwrap();
-    let out = pushmog(&[
+    succeeds(&[
         "perceive",
         "--camera",
         &path("camera.toml"),
@@ -650,11 +655,6 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
         "-o",
         &path("labelled.json"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let labelled = read_scene(&dir.join("labelled.json"));
     assert_eq!(labelled.len(), 3);
     for object in truth.objects() {
@@ -673,7 +673,7 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
     ]}"#;
     std::fs::write(dir.join("set.json"), set).unwrap();
     for (library, name) in [(path("set.json"), Some("box-40")), ("builtin".into(), None)] {
-        let out = pushmog(&[
+        succeeds(&[
             "perceive",
             "--camera",
             &path("camera.toml"),
@@ -688,11 +688,6 @@ fn the_command_line_reads_npy_and_png_depth_and_writes_scene_report_and_overlay(
             "--report",
             &path("report.json"),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let named = read_scene(&dir.join("named.json"));
         assert_eq!(named.len(), 3);
         for object in named.objects() {
