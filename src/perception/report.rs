@@ -108,7 +108,8 @@ pub struct PerceptionReport {
 /// The result of `perceive`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Perception {
-    /// The objects seen, in the table frame: each outline about its centroid, yaw 0.
+    /// The objects seen, in the table frame: each in the frame of the prior's object it is (or of
+    /// the set's shape [`Perception::name_from`] matched), else its outline about its centroid, yaw 0.
     pub objects: Vec<Object>,
     /// One report per blob, objects and rejections alike.
     pub blobs: Vec<BlobReport>,
