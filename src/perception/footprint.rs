@@ -22,7 +22,7 @@ use nalgebra::{Point2, Vector2};
 
 use super::camera::Camera;
 use super::table::TablePlane;
-use crate::geometry::{ConvexPolygon, clip, convex_hull, intersection, loop_area, tidy_polygon};
+use crate::geometry::{ConvexPolygon, clip, convex_hull, loop_area, tidy_polygon};
 
 /// A blob's image hull, before back-projection.
 #[derive(Clone, Debug)]
@@ -157,9 +157,7 @@ pub fn footprint(
     top: f64,
     cut: f64,
 ) -> Option<ConvexPolygon> {
-    let high = back_project(&hull.corners, camera, table, top)?;
-    let low = back_project(&hull.corners, camera, table, cut)?;
-    tidy_polygon(&intersection(&high, &low))
+    footprint_by_edges(hull, camera, table, top, &vec![cut; hull.corners.len()])
 }
 
 /// As [`footprint`], each edge `k` of the image hull (from corner `k` to `k + 1`) back-projected
@@ -186,8 +184,11 @@ pub fn footprint_by_edges(
             .meet(&centre, &camera.ray(c.x, c.y), lift)
             .map(|p| Point2::new(p.x, p.y))
     };
-    // The side of each back-projected edge the blob lies on: that of the top's centroid.
-    let inside = print.centroid();
+    // The loop keeps one turning sense on every plane below the camera (each is a central
+    // projection of the image): the blob lies left of each edge when the loop turns
+    // counter-clockwise on the table, right of it otherwise.
+    let on_top: Option<Vec<Point2<f64>>> = corners.iter().map(|c| meet(c, top)).collect();
+    let left = loop_area(&on_top?) > 0.0;
     for k in 0..n {
         let (a, b) = (
             meet(&corners[k], lifts[k])?,
@@ -197,10 +198,9 @@ pub fn footprint_by_edges(
         if along.norm() < 1e-12 {
             continue;
         }
-        let mut normal = Vector2::new(along.y, -along.x).normalize();
-        if normal.dot(&(inside - a)) > 0.0 {
-            normal = -normal;
-        }
+        // Outward: to the right of the edge for a counter-clockwise loop.
+        let right = Vector2::new(along.y, -along.x).normalize();
+        let normal = if left { right } else { -right };
         print = tidy_polygon(&clip(print.vertices(), &normal, normal.dot(&a.coords)))?;
     }
     Some(print)
