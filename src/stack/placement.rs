@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::support::{Row, Support};
 use super::{GRAVITY, tipping_bound};
-use crate::geometry::{ConvexPolygon, clip, convex_hull, half_planes};
+use crate::geometry::{ConvexPolygon, clip, half_planes, tidy_polygon};
 use crate::scene::Pose;
 
 /// What the rider checks allow.
@@ -254,7 +254,8 @@ fn resting(
             contact.extend(points);
         }
     }
-    let Ok(polygon) = ConvexPolygon::new(convex_hull(&contact)) else {
+    // Clipping leaves points on the footprint's edges nearly in line; the tidy hull drops them.
+    let Some(polygon) = tidy_polygon(&contact) else {
         return (f64::NEG_INFINITY, faces);
     };
     let margin = half_planes(&polygon)
@@ -366,5 +367,40 @@ mod tests {
         // 0.4 × 20 N carries 16 N: 1.5 kg (14.7 N) but not 1.7 kg.
         assert!(plates_carry(0.4, 20.0, &[0.5, 0.5], &[0.5]));
         assert!(!plates_carry(0.4, 20.0, &[0.5, 0.5], &[0.7]));
+    }
+
+    /// A triangle resting across two faces, whose clipped contact has a corner in line with the
+    /// footprint's edge to within rounding (seed 2 of the rider pricing test): the margin is that
+    /// of the contact's hull, not "no support" (a hull refused as having collinear corners).
+    #[test]
+    fn a_contact_with_corners_nearly_in_line_still_has_its_margin() {
+        let p = |v: &[[f64; 2]]| {
+            ConvexPolygon::new(v.iter().map(|a| Point2::new(a[0], a[1])).collect()).unwrap()
+        };
+        let tops = vec![
+            p(&[
+                [0.5420246501163011, 0.10768583498525439],
+                [0.547084645236654, 0.09569308578829387],
+                [0.5596158095698713, 0.09217179172451079],
+                [0.5701819209148725, 0.09977356037263253],
+                [0.5708264818327576, 0.1127741036639446],
+                [0.5610641248564424, 0.12138374836053449],
+                [0.5482461038696261, 0.11911925516971496],
+            ]),
+            p(&[
+                [0.5575325820576622, 0.14776036244871374],
+                [0.576980642244009, 0.10829172990351106],
+                [0.5949989996062615, 0.13054793798049855],
+                [0.5861589722488311, 0.1484882255010452],
+            ]),
+        ];
+        let footprint = p(&[
+            [0.5959695953260712, 0.1232220601510629],
+            [0.556132426751987, 0.1462220601510629],
+            [0.558988833212538, 0.11916950126780526],
+        ]);
+        let margin = standing_margin(&tops, &footprint);
+        // The centroid lies inside the contact's hull: a finite, positive margin.
+        assert!(margin.is_finite() && margin > 0.0, "{margin}");
     }
 }
