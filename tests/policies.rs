@@ -1094,6 +1094,55 @@ fn riders_ride_on_rows_and_save_trips() {
     );
 }
 
+/// Riders priced in robot time (`formulations/stacking.md`, "Riders priced"): under the
+/// expected-time objective each rider placed saves, by the time model, more than its place action
+/// adds to its trip; a rider that never rides (`carried = 0`) is never placed; a far bin, where a
+/// saved trip is dear, takes riders, and every plan verifies.
+#[test]
+fn riders_are_placed_only_where_they_pay() {
+    use pushmog::policy::{TripObjective, grasp_path, push_paths, rider_paths};
+    let priced = |bin: f64, carried: f64| {
+        let mut settings = crate::support::with_riders();
+        settings.pricing.objective = TripObjective::ExpectedTime;
+        settings.riders.carried = carried;
+        settings.time_model.bin_distance = bin;
+        Policy::new(PolicyKind::PushMogOpt, settings).unwrap()
+    };
+    let mut placed_far = 0;
+    for seed in 1..=2 {
+        let table = scene(seed);
+        let never = priced(0.3, 0.0);
+        let plan = never.run(&table, &mut never.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert_eq!(plan.riders_placed(), 0, "seed {seed}");
+        for bin in [0.3, 4.0] {
+            let policy = priced(bin, 0.967);
+            let plan = policy.run(&table, &mut policy.ideal(), seed).unwrap();
+            assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+            let model = policy.problem().time_model();
+            let gripper = table.gripper();
+            let single = model.nominal_trip_seconds(gripper) + model.look_seconds();
+            for trip in plan.trips.iter().filter(|t| !t.plan.riders.is_empty()) {
+                // The riders were chosen on the last look, with the pushes planned on it.
+                let start = trip.last_plan_scene().1;
+                let pushes = push_paths(&trip.plan.pushes[start..]);
+                let grasp = grasp_path(&trip.plan.grasp, gripper);
+                let riders = rider_paths(&trip.plan.riders, gripper);
+                let placing = model.trip_seconds_with_riders(gripper, &pushes, &riders, &grasp)
+                    - model.trip_seconds(gripper, &pushes, &grasp);
+                assert!(
+                    0.967 * single > placing,
+                    "seed {seed}, bin {bin}: {placing} s"
+                );
+            }
+            if bin > 1.0 {
+                placed_far += plan.riders_placed();
+            }
+        }
+    }
+    assert!(placed_far > 0);
+}
+
 /// The verifier refuses a rider put where it cannot stand, one the trip also grasps, and one let go
 /// where its jaws did not carry it.
 #[test]
