@@ -565,6 +565,68 @@ fn the_depth_camera_sees_every_object_of_a_generated_table_where_it_lies() {
     }
 }
 
+/// A calibration error moves what the camera sees as the error says: an offset of the calibrated
+/// optical centre moves every object by its horizontal part (the table's fit takes the vertical
+/// part up), and a turn about the vertical turns them about the camera's nadir, to within 10 µm
+/// (the table's fit picks its pixels near the calibrated table, so a few of them change). The same
+/// frame is perceived each time (the same seed draws the same noise).
+#[test]
+fn a_calibration_error_moves_what_the_camera_sees_by_that_error() {
+    use nalgebra::{Point2, Rotation2, Vector2};
+    use pushmog::exec::{CalibrationError, SimCamera};
+    use pushmog::scene::{GeneratorSettings, builtin_object_set, generate_scene};
+    let truth = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 3).unwrap();
+    let look = |calibration: CalibrationError| {
+        let settings = SimSettings {
+            camera: Some(SimCamera {
+                calibration,
+                ..SimCamera::default()
+            }),
+            ..SimSettings::default()
+        };
+        let mut sim = Sim::new(settings, 3).unwrap();
+        sim.reset(&truth).unwrap();
+        let seen = sim.observe().unwrap();
+        assert!(sim.lost().is_empty(), "{:?}", sim.lost());
+        seen
+    };
+    let exact = look(CalibrationError::default());
+    let shifted = look(CalibrationError {
+        offset: [0.01, -0.005, 0.01],
+        turn: [0.0; 3],
+    });
+    let turned = look(CalibrationError {
+        offset: [0.0; 3],
+        turn: [0.0, 0.0, 0.01],
+    });
+    let workspace = truth.workspace();
+    let nadir = Point2::new(
+        0.5 * (workspace.min[0] + workspace.max[0]),
+        0.5 * (workspace.min[1] + workspace.max[1]),
+    );
+    for object in exact.objects() {
+        let at = object.world_centroid();
+        let find = |scene: &pushmog::scene::Scene| {
+            let j = scene.index_of(object.id).expect("seen under its own id");
+            scene.objects()[j].world_centroid()
+        };
+        let moved = find(&shifted) - at;
+        assert!(
+            (moved - Vector2::new(0.01, -0.005)).norm() < 1e-5,
+            "{moved}"
+        );
+        let expected = nadir + Rotation2::new(0.01) * (at - nadir);
+        assert!(
+            (find(&turned) - expected).norm() < 1e-5,
+            "{}",
+            find(&turned) - expected
+        );
+        let j = shifted.index_of(object.id).unwrap();
+        let dh = shifted.objects()[j].height - object.height;
+        assert!(dh.abs() < 1e-4, "{dh}");
+    }
+}
+
 /// Closed loops that look through the depth camera write plans that pass the independent verifier
 /// (two scenes, push-mog and push-mog-opt): with the statistical checks, `cargo test -- --ignored`.
 #[test]
@@ -611,6 +673,15 @@ fn camera_settings_are_checked_and_noiseless_silences_the_depth_noise() {
         panic!("a zero pixel is refused")
     };
     assert!(refusal.to_string().contains("camera.pixel"), "{refusal}");
+    let mut miscalibrated = SimCamera::default();
+    miscalibrated.calibration.turn[0] = 0.2;
+    let Err(refusal) = Sim::new(with_camera(miscalibrated), 1) else {
+        panic!("a 0.2 rad calibration error is refused")
+    };
+    assert!(
+        refusal.to_string().contains("camera.calibration.turn[0]"),
+        "{refusal}"
+    );
     let quiet = SimSettings::noiseless_from(&with_camera(SimCamera::default()));
     let noise = quiet.camera.expect("the camera stays").noise;
     assert_eq!(

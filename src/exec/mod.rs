@@ -23,7 +23,7 @@ use crate::scene::{ObjectId, Scene};
 pub use ideal::Ideal;
 pub use kind::ExecutorKind;
 #[cfg(feature = "sim")]
-pub use sim::{Closing, FingerDrive, Rollout, Sim, SimCamera, SimSettings};
+pub use sim::{CalibrationError, Closing, FingerDrive, Rollout, Sim, SimCamera, SimSettings};
 
 /// Why a rider still standing on another object (its row was not carried) cannot be planned for:
 /// the reason [`Executor::lost`] gives for it.

@@ -50,6 +50,47 @@ pub struct SimCamera {
     pub noise: DepthNoise,
     /// How the frame is perceived. Default: `perceive`'s defaults.
     pub perception: PerceptionSettings,
+    /// The camera's calibration error: perception is given a pose of the camera that differs from
+    /// the one it renders from by this much. Default none (left out of written settings).
+    #[serde(skip_serializing_if = "CalibrationError::is_zero")]
+    pub calibration: CalibrationError,
+}
+
+/// How far the camera's calibrated pose, which perception uses, lies from the pose it renders
+/// from: a hand-eye or marker calibration's error (`formulations/perception.md`, "The simulator's
+/// camera"). Fixed for a run, as a calibration is for a cell.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct CalibrationError {
+    /// The calibrated optical centre less the true one, metres, table frame.
+    pub offset: [f64; 3],
+    /// The calibrated orientation turned from the true one about the optical centre, radians,
+    /// about the table's x, then y, then z axis.
+    pub turn: [f64; 3],
+}
+
+impl CalibrationError {
+    /// No error: left out of written settings.
+    pub fn is_zero(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// `camera` as calibrated with this error: `R' = E·R`, `t' = t + offset`, with `E` the turn.
+    pub fn calibrated(&self, camera: &Camera) -> Camera {
+        let [x, y, z] = self.turn;
+        let turn = nalgebra::Rotation3::from_euler_angles(x, y, z);
+        let rotation = turn.matrix() * camera.rotation();
+        let mut calibrated = camera.clone();
+        for (i, row) in calibrated.extrinsics.rotation.iter_mut().enumerate() {
+            for (j, value) in row.iter_mut().enumerate() {
+                *value = rotation[(i, j)];
+            }
+        }
+        for (k, value) in calibrated.extrinsics.translation.iter_mut().enumerate() {
+            *value += self.offset[k];
+        }
+        calibrated
+    }
 }
 
 impl Default for SimCamera {
@@ -60,6 +101,7 @@ impl Default for SimCamera {
             margin: 0.05,
             noise: DepthNoise::default(),
             perception: PerceptionSettings::default(),
+            calibration: CalibrationError::default(),
         }
     }
 }
@@ -116,6 +158,22 @@ impl SimCamera {
         ];
         for (field, value, range, why) in checks {
             crate::error::in_range("sim", field, value, range, why)?;
+        }
+        for k in 0..3 {
+            crate::error::in_range(
+                "sim",
+                &format!("camera.calibration.offset[{k}]"),
+                self.calibration.offset[k],
+                (-0.1, 0.1),
+                "m; a calibration's error",
+            )?;
+            crate::error::in_range(
+                "sim",
+                &format!("camera.calibration.turn[{k}]"),
+                self.calibration.turn[k],
+                (-0.1, 0.1),
+                "rad; a calibration's error",
+            )?;
         }
         self.perception.validate()
     }
@@ -186,9 +244,10 @@ impl Sim {
             labels: Some(&labels),
             heights: None,
         };
+        // Rendered from where the camera is, perceived with where its calibration says it is.
         let seen = perceive(
             &frame,
-            &view,
+            &camera.calibration.calibrated(&view),
             &workspace,
             &self.gripper,
             None,

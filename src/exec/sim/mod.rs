@@ -62,7 +62,7 @@ impl Sim {
             && prism.translation.z > RIDING
     }
 }
-pub use camera::SimCamera;
+pub use camera::{CalibrationError, SimCamera};
 pub use settings::{FingerDrive, SimSettings};
 
 /// Where an action's stage was set: the jaws' centre and the end of its path, with actuation
