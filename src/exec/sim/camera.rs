@@ -159,21 +159,15 @@ impl SimCamera {
         for (field, value, range, why) in checks {
             crate::error::in_range("sim", field, value, range, why)?;
         }
-        for k in 0..3 {
-            crate::error::in_range(
-                "sim",
-                &format!("camera.calibration.offset[{k}]"),
-                self.calibration.offset[k],
-                (-0.1, 0.1),
-                "m; a calibration's error",
-            )?;
-            crate::error::in_range(
-                "sim",
-                &format!("camera.calibration.turn[{k}]"),
-                self.calibration.turn[k],
-                (-0.1, 0.1),
-                "rad; a calibration's error",
-            )?;
+        let calibration = &self.calibration;
+        for (part, values, why) in [
+            ("offset", calibration.offset, "m; a calibration's error"),
+            ("turn", calibration.turn, "rad; a calibration's error"),
+        ] {
+            for (k, value) in values.into_iter().enumerate() {
+                let field = format!("camera.calibration.{part}[{k}]");
+                crate::error::in_range("sim", &field, value, (-0.1, 0.1), why)?;
+            }
         }
         self.perception.validate()
     }
