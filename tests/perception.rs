@@ -75,6 +75,24 @@ fn look_with(
     perceive(&frame, camera, workspace, truth.gripper(), prior, settings).unwrap()
 }
 
+/// What `perceive` with the default settings makes of `frame`, against `truth`'s workspace.
+fn perceive_default(
+    frame: &Frame,
+    camera: &Camera,
+    truth: &Scene,
+    prior: Option<&Scene>,
+) -> Perception {
+    perceive(
+        frame,
+        camera,
+        truth.workspace(),
+        truth.gripper(),
+        prior,
+        &PerceptionSettings::default(),
+    )
+    .unwrap()
+}
+
 /// The index of the object of `scene` whose centroid is nearest `(x, y)`.
 fn nearest(scene: &Scene, x: f64, y: f64) -> usize {
     let d = |k: usize| (scene.centroid(k) - Point2::new(x, y)).norm();
@@ -120,15 +138,7 @@ fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
             depth: Some(Depth::Metres(depth)),
             ..Frame::default()
         };
-        let seen = perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            None,
-            &PerceptionSettings::default(),
-        )
-        .unwrap();
+        let seen = perceive_default(&frame, &camera, &truth, None);
         // Nothing missed, nothing spurious, every blob listed.
         assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
         assert!(seen.blobs.iter().all(|b| !b.status.blocks()));
@@ -169,15 +179,7 @@ fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
         assert_eq!(named.scene().unwrap().len(), truth.len());
         // With the truth as the prior, every object keeps its id, name and frame: its yaw is the
         // turn measured from the prior's.
-        let tracked = perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            Some(&truth),
-            &PerceptionSettings::default(),
-        )
-        .unwrap();
+        let tracked = perceive_default(&frame, &camera, &truth, Some(&truth));
         for object in &tracked.objects {
             let before = &truth.objects()[truth.index_of(object.id).unwrap()];
             assert_eq!(object.name, before.name);
@@ -202,15 +204,7 @@ fn labels_and_heights_without_depth_give_the_outlines() {
         heights: Some(&heights),
         ..Frame::default()
     };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        truth.gripper(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = perceive_default(&frame, &camera, &truth, None);
     let fits = fits(&truth, &seen);
     let mean = fits.iter().sum::<f64>() / fits.len() as f64;
     assert!(mean >= 0.975, "mean {mean}: {fits:?}");
@@ -393,15 +387,7 @@ fn labels_that_split_or_lack_depth_block() {
         labels: Some(&labels),
         heights: None,
     };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        truth.gripper(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = perceive_default(&frame, &camera, &truth, None);
     assert!(
         statuses(&seen).contains(&BlobStatus::SplitLabel),
         "{:?}",
@@ -419,15 +405,7 @@ fn labels_that_split_or_lack_depth_block() {
         labels: Some(&rendered.labels),
         heights: None,
     };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        truth.gripper(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = perceive_default(&frame, &camera, &truth, None);
     assert!(
         statuses(&seen).contains(&BlobStatus::NoDepth),
         "{:?}",
@@ -449,15 +427,7 @@ fn labels_that_split_or_lack_depth_block() {
         labels: Some(&labels),
         heights: None,
     };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        truth.gripper(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = perceive_default(&frame, &camera, &truth, None);
     let patch = seen.blobs.iter().find(|b| b.label == Some(9)).unwrap();
     assert_eq!(patch.status, BlobStatus::TooSmall, "{patch:?}");
     assert_eq!(seen.scene().unwrap().len(), 3);
@@ -730,15 +700,7 @@ fn a_label_given_too_low_a_height_overlaps_its_neighbour() {
             labels: Some(&rendered.labels),
             heights: Some(heights),
         };
-        perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            None,
-            &PerceptionSettings::default(),
-        )
-        .unwrap()
+        perceive_default(&frame, &camera, &truth, None)
     };
     let right = look(&[(1, 0.03), (2, 0.03)].into());
     assert_eq!(
@@ -774,15 +736,7 @@ fn a_box_whose_wall_facing_the_camera_is_hidden_by_its_neighbour_is_seen_whole()
             labels: Some(&rendered.labels),
             ..Frame::default()
         };
-        let seen = perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            None,
-            &PerceptionSettings::default(),
-        )
-        .unwrap();
+        let seen = perceive_default(&frame, &camera, truth, None);
         assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
         fits(truth, &seen)
     };

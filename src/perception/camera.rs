@@ -102,8 +102,15 @@ impl Camera {
 
     /// This camera turned by `angle` radians about the table's x axis through its optical centre
     /// (a tilt from straight down).
-    pub fn tilted(mut self, angle: f64) -> Self {
-        let turn = nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), angle);
+    pub fn tilted(self, angle: f64) -> Self {
+        self.turned(&nalgebra::Rotation3::from_axis_angle(
+            &Vector3::x_axis(),
+            angle,
+        ))
+    }
+
+    /// This camera turned by `turn`, a rotation in the table frame, about its optical centre.
+    pub fn turned(mut self, turn: &nalgebra::Rotation3<f64>) -> Self {
         let rotation = turn.matrix() * self.rotation();
         for (i, row) in self.extrinsics.rotation.iter_mut().enumerate() {
             for (j, value) in row.iter_mut().enumerate() {

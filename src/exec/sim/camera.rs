@@ -78,16 +78,16 @@ impl CalibrationError {
     /// `camera` as calibrated with this error: `R' = E·R`, `t' = t + offset`, with `E` the turn.
     pub fn calibrated(&self, camera: &Camera) -> Camera {
         let [x, y, z] = self.turn;
-        let turn = nalgebra::Rotation3::from_euler_angles(x, y, z);
-        let rotation = turn.matrix() * camera.rotation();
-        let mut calibrated = camera.clone();
-        for (i, row) in calibrated.extrinsics.rotation.iter_mut().enumerate() {
-            for (j, value) in row.iter_mut().enumerate() {
-                *value = rotation[(i, j)];
-            }
-        }
-        for (k, value) in calibrated.extrinsics.translation.iter_mut().enumerate() {
-            *value += self.offset[k];
+        let mut calibrated = camera
+            .clone()
+            .turned(&nalgebra::Rotation3::from_euler_angles(x, y, z));
+        for (value, offset) in calibrated
+            .extrinsics
+            .translation
+            .iter_mut()
+            .zip(self.offset)
+        {
+            *value += offset;
         }
         calibrated
     }
