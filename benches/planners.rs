@@ -1,7 +1,7 @@
 //! Benchmarks of the baselines on 34-object scenes: clustering, push planning for one cluster, grasp
 //! planning for one cluster, one trip of push-mog, push-mog-opt and push-mog-time (push-mog-opt priced
-//! by expected robot time and pushing ahead, with the 16-sample judge of
-//! `experiments/picks-per-hour.toml`; the aim of issue 36 is a median of 50 ms per trip)
+//! by expected robot time and pushing ahead, with the settings of `experiments/push-mog-time.json`;
+//! the aim of issue 36 is a median of 50 ms per trip)
 //! (`Policy::plan_trip`, the call the
 //! Python package's `Planner.plan_trip` makes; `python/benches/plan_trip.py` times that one on the
 //! same scene), and a whole push-mog run with the ideal executor. Policies cache the closings they
@@ -66,12 +66,9 @@ fn baselines(c: &mut Criterion) {
             )
         });
     }
-    let timed: PolicySettings = serde_json::from_str(
-        r#"{"socp": {"flush": true, "held_edge_margin": 0.02},
-            "multi": {"edge_margin": 0.02, "edge_along_plates": true},
-            "pricing": {"objective": "expected_time", "push_ahead": true}}"#,
-    )
-    .unwrap();
+    // push-mog-time's own settings file, as the experiments and the command line use it.
+    let timed: PolicySettings =
+        serde_json::from_str(include_str!("../experiments/push-mog-time.json")).unwrap();
     let mut per_trip: Vec<f64> = (1..=5)
         .flat_map(|seed| {
             let scene =
