@@ -45,10 +45,8 @@ fn edge_normal(vertices: &[Point2<f64>], i: usize) -> Vector2<f64> {
 /// not depend on the order of its terms (but for the sign of a zero, which no caller can see).
 fn best_face(reference: &[Point2<f64>], other: &[Point2<f64>]) -> (usize, f64) {
     let m = other.len();
-    let normals: Vec<Vector2<f64>> = (0..reference.len())
-        .map(|i| edge_normal(reference, i))
-        .collect();
-    let distance = |i: usize, j: usize| normals[i].dot(&(other[j] - reference[i]));
+    let distance =
+        |normal: &Vector2<f64>, i: usize, j: usize| normal.dot(&(other[j] - reference[i]));
     // Could an edge with this separation replace `best`? (Larger wins; the first edge wins a tie.)
     let beats = |separation: f64, i: usize, best: (usize, f64)| {
         separation > best.1 || (separation == best.1 && i < best.0)
@@ -57,34 +55,47 @@ fn best_face(reference: &[Point2<f64>], other: &[Point2<f64>]) -> (usize, f64) {
     // the scan stops and a value that cannot beat it is returned. (A NaN distance, from a degenerate
     // edge, is passed over as `f64::min` passes over it.)
     let least = |i: usize, start: usize, best: (usize, f64)| {
+        let normal = edge_normal(reference, i);
         let mut separation = f64::INFINITY;
         for k in 0..m {
-            separation = separation.min(distance(i, (start + k) % m));
+            separation = separation.min(distance(&normal, i, (start + k) % m));
             if !beats(separation, i, best) {
                 break;
             }
         }
         separation
     };
-    // Each edge's bound, with the vertex where it is attained.
+    // Each edge's bound, with the vertex where it is attained (on the stack for outlines of up to
+    // 64 vertices, as scenes keep them: this runs for every pair of touching pieces at every step
+    // of a closing).
+    let mut on_stack = [(0.0, 0); 64];
+    let mut on_heap = Vec::new();
+    let bounds: &mut [(f64, usize)] = if reference.len() <= on_stack.len() {
+        &mut on_stack[..reference.len()]
+    } else {
+        on_heap.resize(reference.len(), (0.0, 0));
+        &mut on_heap
+    };
+    let first_normal = edge_normal(reference, 0);
     let mut nearest = (0..m)
-        .map(|j| (distance(0, j), j))
+        .map(|j| (distance(&first_normal, 0, j), j))
         .reduce(|low, next| if next.0 < low.0 { next } else { low })
         .map_or(0, |(_, j)| j);
-    let mut bounds = Vec::with_capacity(normals.len());
-    for i in 0..normals.len() {
-        let mut bound = distance(i, nearest);
+    for (i, slot) in bounds.iter_mut().enumerate() {
+        let normal = edge_normal(reference, i);
+        let mut bound = distance(&normal, i, nearest);
         for _ in 0..m {
             let next = (nearest + 1) % m;
-            let further = distance(i, next);
+            let further = distance(&normal, i, next);
             if further < bound {
                 (nearest, bound) = (next, further);
             } else {
                 break;
             }
         }
-        bounds.push((if bound.is_nan() { f64::INFINITY } else { bound }, nearest));
+        *slot = (if bound.is_nan() { f64::INFINITY } else { bound }, nearest);
     }
+    let bounds = &*bounds;
     let Some(first) =
         (0..bounds.len()).reduce(|top, i| if bounds[i].0 > bounds[top].0 { i } else { top })
     else {
@@ -128,12 +139,14 @@ pub fn contact_points(
     let v1 = reference[face];
     let v2 = reference[(face + 1) % reference.len()];
     // The incident edge: the one whose normal points most against the reference normal.
-    let facing: Vec<f64> = (0..incident.len())
-        .map(|i| edge_normal(incident, i).dot(&normal))
-        .collect();
-    let incident_edge = (0..incident.len())
-        .min_by(|&i, &j| facing[i].total_cmp(&facing[j]))
-        .unwrap_or(0);
+    let mut incident_edge = (0, f64::INFINITY);
+    for i in 0..incident.len() {
+        let facing = edge_normal(incident, i).dot(&normal);
+        if i == 0 || facing.total_cmp(&incident_edge.1).is_lt() {
+            incident_edge = (i, facing);
+        }
+    }
+    let incident_edge = incident_edge.0;
     let mut points = [
         incident[incident_edge],
         incident[(incident_edge + 1) % incident.len()],
