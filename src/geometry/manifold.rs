@@ -33,7 +33,8 @@ fn edge_normal(vertices: &[Point2<f64>], i: usize) -> Vector2<f64> {
 /// such edge when several tie).
 ///
 /// An edge's separation is the least of `other`'s vertex distances beyond it. Scanning every vertex
-/// for every edge costs `n·m`, which dominated planning on traced outlines of 20 to 50 vertices, so:
+/// for every edge costs `n·m`: 29 % of a run's CPU on traced outlines of 18 to 48 vertices (the
+/// closings of the grasp judge ask for contact points at every step), so:
 /// 1. the vertex nearest an edge turns forward round `other` as the edge's normal turns round
 ///    `reference`; walking forward from the last edge's nearest vertex while the distance falls gives
 ///    each edge a bound (a distance actually attained, so never below its separation) in `n + m`;
