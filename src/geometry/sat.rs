@@ -14,6 +14,13 @@
 //!   edge in contact); the patch is the overlap, along that edge, of the two polygons' vertices lying on
 //!   the contact line.
 //!
+//! Projecting both polygons on all `n + m` axes costs `(n + m)²`, which adds up on traced outlines of
+//! tens of vertices. So each query first bounds an axis's projections by `Extremes` (a vertex of each
+//! polygon that climbs round it as the axes turn, a few steps per axis) and projects in full only on
+//! the axes whose bounds could still change the answer. The answers are those of projecting on every axis:
+//! each is a minimum or maximum over the axes, which does not depend on the order the axes are taken
+//! in, and an axis is passed over only when no value within its bounds could change it.
+//!
 //! These are computed here rather than by parry's GJK/EPA, which reports zero penetration for
 //! overlapping polygons whose edges lie on a common line (a triangle standing on the edge of a jaw
 //! region, a row of pushed objects), exactly the configurations pushing creates.
@@ -33,22 +40,85 @@ fn normals(polygon: &ConvexPolygon) -> impl Iterator<Item = Vector2<f64>> + '_ {
     })
 }
 
-fn axes(first: &ConvexPolygon, second: &ConvexPolygon) -> Vec<Vector2<f64>> {
-    normals(first).chain(normals(second)).collect()
+/// Bounds on a polygon's projections onto axes that mostly turn a little from one to the next: the
+/// vertices of least and greatest projection on the last axis, climbed (forward round the polygon,
+/// or else backward) while they improve. A climb can stop short of the extreme where rounding makes
+/// neighbouring vertices tie, so the values returned are bounds that the polygon attains: the least
+/// projection is at most the first, the greatest at least the second.
+struct Extremes<'a> {
+    vertices: &'a [Point2<f64>],
+    /// Vertices of the least and the greatest projection on the last axis.
+    at: (usize, usize),
+}
+
+impl<'a> Extremes<'a> {
+    fn new(polygon: &'a ConvexPolygon) -> Self {
+        Self {
+            vertices: polygon.vertices(),
+            at: (0, 0),
+        }
+    }
+
+    /// The vertex reached from `start` by moving while `better` holds, and its projection.
+    fn climb(
+        &self,
+        axis: &Vector2<f64>,
+        start: usize,
+        better: fn(f64, f64) -> bool,
+    ) -> (usize, f64) {
+        let n = self.vertices.len();
+        let along = |j: usize| self.vertices[j].coords.dot(axis);
+        let (mut at, mut value) = (start, along(start));
+        for step in [1, n - 1] {
+            let mut moved = false;
+            for _ in 0..n {
+                let next = (at + step) % n;
+                let further = along(next);
+                if better(further, value) {
+                    (at, value, moved) = (next, further, true);
+                } else {
+                    break;
+                }
+            }
+            if moved {
+                break;
+            }
+        }
+        (at, value)
+    }
+
+    /// `(a value at least the least projection on `axis`, a value at most the greatest)`, both
+    /// computed as [`ConvexPolygon::projection`] computes them.
+    fn bounds(&mut self, axis: &Vector2<f64>) -> (f64, f64) {
+        let (low, low_value) = self.climb(axis, self.at.0, |a, b| a < b);
+        let (high, high_value) = self.climb(axis, self.at.1, |a, b| a > b);
+        self.at = (low, high);
+        (low_value, high_value)
+    }
 }
 
 /// How deep two polygons interpenetrate, metres: the smallest translation that separates them; 0
 /// when they are apart or only touch.
 pub fn penetration_depth(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
     let mut depth = f64::INFINITY;
-    for axis in axes(first, second) {
-        let (a0, a1) = first.projection(&axis);
-        let (b0, b1) = second.projection(&axis);
-        let overlap = a1.min(b1) - a0.max(b0);
-        if overlap <= 0.0 {
-            return 0.0;
+    // The axes in two runs, each turning counter-clockwise: `first`'s edge normals, then `second`'s.
+    let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
+    for owner in [first, second] {
+        for axis in normals(owner) {
+            // The overlap on this axis is at least this (rounding is monotone).
+            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
+            let least = a1.min(b1) - a0.max(b0);
+            if least > 0.0 && least >= depth {
+                continue;
+            }
+            let (a0, a1) = first.projection(&axis);
+            let (b0, b1) = second.projection(&axis);
+            let overlap = a1.min(b1) - a0.max(b0);
+            if overlap <= 0.0 {
+                return 0.0;
+            }
+            depth = depth.min(overlap);
         }
-        depth = depth.min(overlap);
     }
     depth
 }
@@ -61,28 +131,45 @@ pub fn cast_distance(
     max_distance: f64,
     obstacle: &ConvexPolygon,
 ) -> Option<f64> {
-    let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
-    for axis in axes(moving, obstacle) {
-        let (a0, a1) = moving.projection(&axis);
-        let (b0, b1) = obstacle.projection(&axis);
-        let speed = axis.dot(direction);
-        let eps = PENETRATION_EPSILON;
-        if speed.abs() < 1e-15 {
-            if a1 > b0 + eps && b1 > a0 + eps {
-                continue;
-            }
-            return None;
-        }
-        // Overlap on this axis: a1 + t·v > b0 + ε and b1 − ε > a0 + t·v.
-        let (low, high) = if speed > 0.0 {
+    let eps = PENETRATION_EPSILON;
+    // On an axis moving at `speed`, the times of overlap run from `low` to `high`, given the
+    // projections of `moving` (a) and `obstacle` (b): a1 + t·v > b0 + ε and b1 − ε > a0 + t·v.
+    let interval = |(a0, a1): (f64, f64), (b0, b1): (f64, f64), speed: f64| {
+        if speed > 0.0 {
             ((b0 + eps - a1) / speed, (b1 - eps - a0) / speed)
         } else {
             ((b1 - eps - a0) / speed, (b0 + eps - a1) / speed)
-        };
-        enter = enter.max(low);
-        exit = exit.min(high);
-        if enter >= exit {
-            return None;
+        }
+    };
+    let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut a, mut b) = (Extremes::new(moving), Extremes::new(obstacle));
+    for owner in [moving, obstacle] {
+        for axis in normals(owner) {
+            let speed = axis.dot(direction);
+            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
+            if speed.abs() >= 1e-15 {
+                // From the bounds, the latest `low` and the earliest `high` the axis can have: the
+                // true lower ends are at most `a0` and `b0`, the upper ends at least `a1` and `b1`,
+                // and each end of the interval is monotone in them.
+                let (latest_low, earliest_high) = interval((a0, a1), (b0, b1), speed);
+                if latest_low <= enter && earliest_high >= exit {
+                    continue;
+                }
+            }
+            let (a0, a1) = moving.projection(&axis);
+            let (b0, b1) = obstacle.projection(&axis);
+            if speed.abs() < 1e-15 {
+                if a1 > b0 + eps && b1 > a0 + eps {
+                    continue;
+                }
+                return None;
+            }
+            let (low, high) = interval((a0, a1), (b0, b1), speed);
+            enter = enter.max(low);
+            exit = exit.min(high);
+            if enter >= exit {
+                return None;
+            }
         }
     }
     if exit <= 0.0 || enter > max_distance {
@@ -93,13 +180,23 @@ pub fn cast_distance(
 
 /// The separating axis of largest separation between two polygons: the unit normal pointing out of
 /// `first` toward `second`, and the separation along it in metres (negative when they overlap; then
-/// its magnitude is the penetration depth).
+/// its magnitude is the penetration depth). The first such axis when several tie, `first`'s normals
+/// before `second`'s.
 pub fn max_separation(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
     let mut best = (Vector2::x(), f64::NEG_INFINITY);
-    for axis in normals(first).chain(normals(second).map(|n| -n)) {
-        let separation = second.projection(&axis).0 - first.projection(&axis).1;
-        if separation > best.1 {
-            best = (axis, separation);
+    // `first`'s outward normals, then `second`'s turned to point out of `first`.
+    let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
+    for (owner, sign) in [(first, 1.0), (second, -1.0)] {
+        for axis in normals(owner).map(|n| n * sign) {
+            // The separation on this axis is at most this.
+            let ((_, a1), (b0, _)) = (a.bounds(&axis), b.bounds(&axis));
+            if b0 - a1 <= best.1 {
+                continue;
+            }
+            let separation = second.projection(&axis).0 - first.projection(&axis).1;
+            if separation > best.1 {
+                best = (axis, separation);
+            }
         }
     }
     best
@@ -210,5 +307,127 @@ mod tests {
         assert!((patch.ends[0] - patch.ends[1]).norm() < 1e-12);
         assert!((patch.ends[0] - Point2::new(0.5, 1.0)).norm() < 1e-12);
         assert_eq!(contact_patch(&a, &square(1.1, 0.0, 1.0), 1e-9), None);
+    }
+
+    // The queries written plainly, projecting on every axis: what the pruned ones must answer.
+    fn every_axis(first: &ConvexPolygon, second: &ConvexPolygon) -> Vec<Vector2<f64>> {
+        normals(first).chain(normals(second)).collect()
+    }
+
+    fn penetration_depth_by_every_axis(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
+        let mut depth = f64::INFINITY;
+        for axis in every_axis(first, second) {
+            let (a0, a1) = first.projection(&axis);
+            let (b0, b1) = second.projection(&axis);
+            let overlap = a1.min(b1) - a0.max(b0);
+            if overlap <= 0.0 {
+                return 0.0;
+            }
+            depth = depth.min(overlap);
+        }
+        depth
+    }
+
+    fn cast_distance_by_every_axis(
+        moving: &ConvexPolygon,
+        direction: &Vector2<f64>,
+        max_distance: f64,
+        obstacle: &ConvexPolygon,
+    ) -> Option<f64> {
+        let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+        let eps = PENETRATION_EPSILON;
+        for axis in every_axis(moving, obstacle) {
+            let (a0, a1) = moving.projection(&axis);
+            let (b0, b1) = obstacle.projection(&axis);
+            let speed = axis.dot(direction);
+            if speed.abs() < 1e-15 {
+                if a1 > b0 + eps && b1 > a0 + eps {
+                    continue;
+                }
+                return None;
+            }
+            let (low, high) = if speed > 0.0 {
+                ((b0 + eps - a1) / speed, (b1 - eps - a0) / speed)
+            } else {
+                ((b1 - eps - a0) / speed, (b0 + eps - a1) / speed)
+            };
+            enter = enter.max(low);
+            exit = exit.min(high);
+            if enter >= exit {
+                return None;
+            }
+        }
+        if exit <= 0.0 || enter > max_distance {
+            return None;
+        }
+        Some(enter.max(0.0))
+    }
+
+    fn max_separation_by_every_axis(
+        first: &ConvexPolygon,
+        second: &ConvexPolygon,
+    ) -> (Vector2<f64>, f64) {
+        let mut best = (Vector2::x(), f64::NEG_INFINITY);
+        for axis in normals(first).chain(normals(second).map(|n| -n)) {
+            let separation = second.projection(&axis).0 - first.projection(&axis).1;
+            if separation > best.1 {
+                best = (axis, separation);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn pruned_queries_answer_as_projecting_on_every_axis() {
+        let mut random = crate::random::SeededRng::new(11);
+        // Ellipses sampled at 3 to 48 angles, apart, touching and overlapping; squares in a row.
+        let ellipse = |random: &mut crate::random::SeededRng, x: f64, y: f64| {
+            let count = 3 + random.index(46);
+            let mut angles: Vec<f64> = (0..count)
+                .map(|_| random.uniform(0.0, std::f64::consts::TAU))
+                .collect();
+            angles.sort_by(f64::total_cmp);
+            let (a, b) = (random.uniform(0.01, 0.06), random.uniform(0.01, 0.06));
+            let points = angles
+                .iter()
+                .map(|t| Point2::new(x + a * t.cos(), y + b * t.sin()));
+            ConvexPolygon::new(points.collect()).ok()
+        };
+        let mut pairs = Vec::new();
+        while pairs.len() < 20_000 {
+            let (x, y) = (random.uniform(-0.1, 0.1), random.uniform(-0.1, 0.1));
+            if let (Some(p), Some(q)) = (ellipse(&mut random, 0.0, 0.0), ellipse(&mut random, x, y))
+            {
+                pairs.push((p, q));
+            }
+        }
+        for (x, y) in [
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (1.0, 0.5),
+            (0.0, 1.0),
+            (-1.0, -1.0),
+            (0.5, 0.5),
+        ] {
+            pairs.push((square(0.0, 0.0, 1.0), square(x, y, 1.0)));
+        }
+        for (p, q) in &pairs {
+            assert_eq!(
+                penetration_depth(p, q),
+                penetration_depth_by_every_axis(p, q)
+            );
+            assert_eq!(max_separation(p, q), max_separation_by_every_axis(p, q));
+            let angle = random.uniform(0.0, std::f64::consts::TAU);
+            for direction in [
+                Vector2::new(angle.cos(), angle.sin()),
+                (q.centroid() - p.centroid()).normalize(),
+                Vector2::x(),
+            ] {
+                assert_eq!(
+                    cast_distance(p, &direction, 0.2, q),
+                    cast_distance_by_every_axis(p, &direction, 0.2, q)
+                );
+            }
+        }
     }
 }
