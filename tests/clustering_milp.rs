@@ -14,8 +14,8 @@ use pushmog::json::read_scene;
 use pushmog::plan::{Status, verify_clustering};
 use pushmog::problem::Problem;
 use pushmog::scene::{
-    GeneratorSettings, Gripper, Object, ObjectId, Pose, Scene, Workspace, builtin_object_set,
-    generate_scene,
+    GeneratorSettings, Gripper, Object, ObjectId, ObjectSet, Pose, Scene, Workspace,
+    builtin_object_set, generate_scene,
 };
 
 /// Every partition of `0..n`, as restricted growth strings (block label of each element).
@@ -654,4 +654,64 @@ fn a_clustering_over_budget_says_why_it_is_the_heuristics() {
     let proven = roomy.cluster(&scene).unwrap();
     assert_eq!(proven.status, Status::Optimal);
     assert_eq!(proven.value.fallback, None);
+}
+
+/// The row test as first written: every member's edge normals, every width projected in full.
+fn admits_row_plainly(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> bool {
+    if members.len() <= 1 {
+        return true;
+    }
+    let spacing = gap * (members.len() - 1) as f64;
+    members.iter().any(|&i| {
+        scene.world_polygon(i).edges().any(|(a, b)| {
+            let edge = b - a;
+            let axis = nalgebra::Vector2::new(edge.y, -edge.x).normalize();
+            let widths: f64 = members
+                .iter()
+                .map(|&m| scene.world_polygon(m).width(&axis))
+                .sum();
+            widths + spacing <= limit
+        })
+    })
+}
+
+#[test]
+fn the_row_test_with_bounded_widths_answers_as_measuring_every_width() {
+    // The library's outlines and the same with rounded corners (18 to 48 vertices).
+    let rounded: ObjectSet =
+        serde_json::from_str(include_str!("../experiments/rounded-corners.json")).unwrap();
+    let mut compared = 0;
+    for set in [builtin_object_set(), rounded] {
+        for seed in 1..=2 {
+            let scene = generate_scene(&GeneratorSettings::default(), &set, seed).unwrap();
+            let near = |i: usize, j: usize| {
+                nalgebra::distance(&scene.centroid(i), &scene.centroid(j)) <= 0.12
+            };
+            let n = scene.len();
+            for i in 0..n {
+                for j in i + 1..n {
+                    if !near(i, j) {
+                        continue;
+                    }
+                    let mut groups = vec![vec![i, j]];
+                    groups.extend(
+                        (j + 1..n)
+                            .filter(|&k| near(i, k) && near(j, k))
+                            .map(|k| vec![i, j, k]),
+                    );
+                    for members in groups {
+                        for limit in [0.045, 0.055, 0.065, 0.075, 0.09] {
+                            assert_eq!(
+                                admits_row(&scene, &members, limit, 0.001),
+                                admits_row_plainly(&scene, &members, limit, 0.001),
+                                "{members:?} at {limit} m"
+                            );
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(compared > 1000, "{compared}");
 }

@@ -24,6 +24,7 @@ mod split;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
+use crate::geometry::{ConvexPolygon, Extremes};
 use crate::outcome::{Abilities, Outcome};
 use crate::scene::{ObjectId, Scene};
 
@@ -140,15 +141,28 @@ pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> boo
         return true;
     }
     let spacing = gap * (members.len() - 1) as f64;
-    members.iter().any(|&i| {
-        let outline = scene.world_polygon(i);
+    let outlines: Vec<&ConvexPolygon> = members.iter().map(|&m| scene.world_polygon(m)).collect();
+    // Widths are bounded from below first (extreme vertices climbed from the last axis's), and
+    // measured in full only on axes where the bounds still leave room: the same answer, cheaper on
+    // outlines of many vertices.
+    let mut extremes: Vec<Extremes<'_>> = outlines.iter().map(|o| Extremes::new(o)).collect();
+    outlines.iter().any(|outline| {
         outline.edges().any(|(a, b)| {
             let edge = b - a;
             let axis = nalgebra::Vector2::new(edge.y, -edge.x).normalize();
-            let widths: f64 = members
-                .iter()
-                .map(|&m| scene.world_polygon(m).width(&axis))
+            // `width` measures along the axis normalised once more; the bounds use the same.
+            let unit = axis.normalize();
+            let least: f64 = extremes
+                .iter_mut()
+                .map(|e| {
+                    let (low, high) = e.bounds(&unit);
+                    high - low
+                })
                 .sum();
+            if least + spacing > limit {
+                return false;
+            }
+            let widths: f64 = outlines.iter().map(|o| o.width(&axis)).sum();
             widths + spacing <= limit
         })
     })

@@ -44,6 +44,7 @@ pub use grasp_diameter::{GraspDiameter, edge_grasps, min_grasp_diameter};
 pub use manifold::{ContactPoint, contact_points};
 pub use polygon::{ConvexPolygon, PolygonError, cross, point_bounds};
 pub use queries::{distance, overlap, point_distance};
+pub(crate) use sat::Extremes;
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};
 pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, simplify};

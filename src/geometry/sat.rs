@@ -45,14 +45,14 @@ fn normals(polygon: &ConvexPolygon) -> impl Iterator<Item = Vector2<f64>> + '_ {
 /// or else backward) while they improve. A climb can stop short of the extreme where rounding makes
 /// neighbouring vertices tie, so the values returned are bounds that the polygon attains: the least
 /// projection is at most the first, the greatest at least the second.
-struct Extremes<'a> {
+pub(crate) struct Extremes<'a> {
     vertices: &'a [Point2<f64>],
     /// Vertices of the least and the greatest projection on the last axis.
     at: (usize, usize),
 }
 
 impl<'a> Extremes<'a> {
-    fn new(polygon: &'a ConvexPolygon) -> Self {
+    pub(crate) fn new(polygon: &'a ConvexPolygon) -> Self {
         Self {
             vertices: polygon.vertices(),
             at: (0, 0),
@@ -89,7 +89,7 @@ impl<'a> Extremes<'a> {
 
     /// `(a value at least the least projection on `axis`, a value at most the greatest)`, both
     /// computed as [`ConvexPolygon::projection`] computes them.
-    fn bounds(&mut self, axis: &Vector2<f64>) -> (f64, f64) {
+    pub(crate) fn bounds(&mut self, axis: &Vector2<f64>) -> (f64, f64) {
         let (low, low_value) = self.climb(axis, self.at.0, |a, b| a < b);
         let (high, high_value) = self.climb(axis, self.at.1, |a, b| a > b);
         self.at = (low, high);
