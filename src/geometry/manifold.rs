@@ -196,7 +196,6 @@ pub fn contact_points(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::TAU;
 
     fn polygon(points: &[(f64, f64)]) -> ConvexPolygon {
         ConvexPolygon::new(points.iter().map(|&(x, y)| Point2::new(x, y)).collect())
@@ -252,44 +251,9 @@ mod tests {
 
     #[test]
     fn the_pruned_edge_search_gives_the_full_scans_answer() {
-        let mut random = crate::random::SeededRng::new(7);
-        // Ellipses sampled at 3 to 48 angles (traced outlines have up to 48 vertices), apart,
-        // touching and overlapping.
-        let ellipse = |random: &mut crate::random::SeededRng, x: f64, y: f64| {
-            let count = 3 + random.index(46);
-            let mut angles: Vec<f64> = (0..count).map(|_| random.uniform(0.0, TAU)).collect();
-            angles.sort_by(f64::total_cmp);
-            let (a, b) = (random.uniform(0.01, 0.06), random.uniform(0.01, 0.06));
-            let points = angles
-                .iter()
-                .map(|t| Point2::new(x + a * t.cos(), y + b * t.sin()));
-            ConvexPolygon::new(points.collect()).ok()
-        };
-        let mut checked = 0;
-        while checked < 20_000 {
-            let (x, y) = (random.uniform(0.0, 0.1), random.uniform(0.0, 0.1));
-            let (Some(p), Some(q)) = (ellipse(&mut random, 0.0, 0.0), ellipse(&mut random, x, y))
-            else {
-                continue;
-            };
+        for (p, q) in crate::geometry::test_pairs(7, 20_000, (0.0, 0.1)) {
             let (a, b) = (p.vertices(), q.vertices());
-            let (fast, plain) = (best_face(a, b), best_face_by_full_scan(a, b));
-            assert_eq!(fast, plain);
-            checked += 1;
-        }
-        // Ties: squares in a row, corner to corner and face to face.
-        for (x, y) in [
-            (1.0, 0.0),
-            (1.0, 1.0),
-            (1.0, 0.5),
-            (0.0, 1.0),
-            (-1.0, -1.0),
-            (0.5, 0.5),
-        ] {
-            let (a, b) = (square(0.0, 0.0, 1.0), square(x, y, 1.0));
-            let fast = best_face(a.vertices(), b.vertices());
-            let plain = best_face_by_full_scan(a.vertices(), b.vertices());
-            assert_eq!(fast, plain);
+            assert_eq!(best_face(a, b), best_face_by_full_scan(a, b));
         }
     }
 }

@@ -48,3 +48,56 @@ pub(crate) use sat::Extremes;
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};
 pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, simplify};
+
+/// Pairs of convex outlines for checking the pruned queries against plain ones: `count` random
+/// ellipses sampled at 3 to 48 angles (traced outlines have up to 48 vertices), the second placed
+/// `offset` metres away in x and y, so that pairs lie apart, touching and overlapping; then unit
+/// squares side by side, corner to corner and face to face, where axes tie.
+#[cfg(test)]
+pub(crate) fn test_pairs(
+    seed: u64,
+    count: usize,
+    offset: (f64, f64),
+) -> Vec<(ConvexPolygon, ConvexPolygon)> {
+    use crate::random::SeededRng;
+    let ellipse = |random: &mut SeededRng, x: f64, y: f64| {
+        let vertices = 3 + random.index(46);
+        let mut angles: Vec<f64> = (0..vertices)
+            .map(|_| random.uniform(0.0, std::f64::consts::TAU))
+            .collect();
+        angles.sort_by(f64::total_cmp);
+        let (a, b) = (random.uniform(0.01, 0.06), random.uniform(0.01, 0.06));
+        let points = angles
+            .iter()
+            .map(|t| nalgebra::Point2::new(x + a * t.cos(), y + b * t.sin()));
+        ConvexPolygon::new(points.collect()).ok()
+    };
+    let mut random = SeededRng::new(seed);
+    let mut pairs = Vec::new();
+    while pairs.len() < count {
+        let x = random.uniform(offset.0, offset.1);
+        let y = random.uniform(offset.0, offset.1);
+        if let (Some(p), Some(q)) = (ellipse(&mut random, 0.0, 0.0), ellipse(&mut random, x, y)) {
+            pairs.push((p, q));
+        }
+    }
+    let square = |x: f64, y: f64| {
+        ConvexPolygon::rectangle(
+            &nalgebra::Point2::new(x + 0.5, y + 0.5),
+            &nalgebra::Vector2::x(),
+            0.5,
+            0.5,
+        )
+    };
+    for (x, y) in [
+        (1.0, 0.0),
+        (1.0, 1.0),
+        (1.0, 0.5),
+        (0.0, 1.0),
+        (-1.0, -1.0),
+        (0.5, 0.5),
+    ] {
+        pairs.push((square(0.0, 0.0), square(x, y)));
+    }
+    pairs
+}

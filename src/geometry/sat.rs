@@ -379,38 +379,8 @@ mod tests {
 
     #[test]
     fn pruned_queries_answer_as_projecting_on_every_axis() {
-        let mut random = crate::random::SeededRng::new(11);
-        // Ellipses sampled at 3 to 48 angles, apart, touching and overlapping; squares in a row.
-        let ellipse = |random: &mut crate::random::SeededRng, x: f64, y: f64| {
-            let count = 3 + random.index(46);
-            let mut angles: Vec<f64> = (0..count)
-                .map(|_| random.uniform(0.0, std::f64::consts::TAU))
-                .collect();
-            angles.sort_by(f64::total_cmp);
-            let (a, b) = (random.uniform(0.01, 0.06), random.uniform(0.01, 0.06));
-            let points = angles
-                .iter()
-                .map(|t| Point2::new(x + a * t.cos(), y + b * t.sin()));
-            ConvexPolygon::new(points.collect()).ok()
-        };
-        let mut pairs = Vec::new();
-        while pairs.len() < 20_000 {
-            let (x, y) = (random.uniform(-0.1, 0.1), random.uniform(-0.1, 0.1));
-            if let (Some(p), Some(q)) = (ellipse(&mut random, 0.0, 0.0), ellipse(&mut random, x, y))
-            {
-                pairs.push((p, q));
-            }
-        }
-        for (x, y) in [
-            (1.0, 0.0),
-            (1.0, 1.0),
-            (1.0, 0.5),
-            (0.0, 1.0),
-            (-1.0, -1.0),
-            (0.5, 0.5),
-        ] {
-            pairs.push((square(0.0, 0.0, 1.0), square(x, y, 1.0)));
-        }
+        let pairs = crate::geometry::test_pairs(11, 20_000, (-0.1, 0.1));
+        let mut random = crate::random::SeededRng::new(12);
         for (p, q) in &pairs {
             assert_eq!(
                 penetration_depth(p, q),
