@@ -11,7 +11,8 @@
 //!
 //! Before the benchmarks it prints the median and 95th percentile of push-mog-time's planning per
 //! trip over whole runs (seeds 1-5, plans applied exactly; wall-clock per call, so a shared machine
-//! inflates it): the aim of issue 36 is a median of 50 ms per trip at 34 objects.
+//! inflates it), on the library's outlines and on the same with rounded corners as a camera traces
+//! them (18 to 48 vertices): the aim of issue 36 is a median of 50 ms per trip at 34 objects.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
@@ -19,7 +20,9 @@ use pushmog::cluster::{Clusterer, Hierarchical};
 use pushmog::grasp::{GraspPlanner, MultiObject, SingleObject};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
 use pushmog::push::{PushPlanner, TowardCentral, predict};
-use pushmog::scene::{GeneratorSettings, ObjectId, Scene, builtin_object_set, generate_scene};
+use pushmog::scene::{
+    GeneratorSettings, ObjectId, ObjectSet, Scene, builtin_object_set, generate_scene,
+};
 
 fn scene() -> Scene {
     generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 1).unwrap()
@@ -33,6 +36,28 @@ fn largest_cluster(scene: &Scene) -> Vec<ObjectId> {
         .into_iter()
         .max_by_key(|c| c.len())
         .unwrap()
+}
+
+/// Prints the median and 95th percentile of push-mog-time's planning per trip over whole runs of
+/// seeds 1-5 on `set`'s outlines, plans applied exactly.
+fn print_planning_per_trip(settings: &PolicySettings, outlines: &str, set: &ObjectSet) {
+    let mut per_trip: Vec<f64> = (1..=5)
+        .flat_map(|seed| {
+            let scene = generate_scene(&GeneratorSettings::default(), set, seed).unwrap();
+            let policy = Policy::new(PolicyKind::PushMogOpt, settings.clone()).unwrap();
+            let (_, timing) = policy.run_timed(&scene, &mut policy.ideal(), seed).unwrap();
+            timing.planning
+        })
+        .collect();
+    per_trip.sort_by(f64::total_cmp);
+    let at = |q: f64| per_trip[((per_trip.len() - 1) as f64 * q).round() as usize] * 1e3;
+    println!(
+        "push-mog-time on {outlines}, planning per trip over {} trips (seeds 1-5): median {:.1} ms, \
+         p95 {:.1} ms",
+        per_trip.len(),
+        at(0.5),
+        at(0.95)
+    );
 }
 
 fn baselines(c: &mut Criterion) {
@@ -69,23 +94,18 @@ fn baselines(c: &mut Criterion) {
     // push-mog-time's own settings file, as the experiments and the command line use it.
     let timed: PolicySettings =
         serde_json::from_str(include_str!("../experiments/push-mog-time.json")).unwrap();
-    let mut per_trip: Vec<f64> = (1..=5)
-        .flat_map(|seed| {
-            let scene =
-                generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
-            let policy = Policy::new(PolicyKind::PushMogOpt, timed.clone()).unwrap();
-            let (_, timing) = policy.run_timed(&scene, &mut policy.ideal(), seed).unwrap();
-            timing.planning
-        })
-        .collect();
-    per_trip.sort_by(f64::total_cmp);
-    let at = |q: f64| per_trip[((per_trip.len() - 1) as f64 * q).round() as usize] * 1e3;
-    println!(
-        "push-mog-time, planning per trip over {} trips (seeds 1-5): median {:.1} ms, p95 {:.1} ms",
-        per_trip.len(),
-        at(0.5),
-        at(0.95)
-    );
+    // The library's outlines, and the same with every corner rounded as a camera traces it.
+    let rounded: ObjectSet =
+        serde_json::from_str(include_str!("../experiments/rounded-corners.json")).unwrap();
+    for (outlines, set) in [
+        ("the library's outlines", builtin_object_set()),
+        (
+            "outlines with rounded corners (rounded-corners.json)",
+            rounded,
+        ),
+    ] {
+        print_planning_per_trip(&timed, outlines, &set);
+    }
     c.bench_function("plan_trip/push-mog-time/34", |b| {
         b.iter_batched(
             || Policy::new(PolicyKind::PushMogOpt, timed.clone()).unwrap(),
