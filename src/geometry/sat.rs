@@ -15,11 +15,12 @@
 //!   the contact line.
 //!
 //! Projecting both polygons on all `n + m` axes costs `(n + m)²`, which adds up on traced outlines of
-//! tens of vertices. So each query first bounds an axis's projections by `Extremes` (a vertex of each
-//! polygon that climbs round it as the axes turn, a few steps per axis) and projects in full only on
-//! the axes whose bounds could still change the answer. The answers are those of projecting on every axis:
-//! each is a minimum or maximum over the axes, which does not depend on the order the axes are taken
-//! in, and an axis is passed over only when no value within its bounds could change it.
+//! tens of vertices. So each query first bounds an axis's projections by `Extremes` (a vertex of
+//! each polygon that climbs round it as the axes turn, a few steps per axis) and projects in full
+//! only on the axes whose bounds could still change the answer. The answers are those of projecting
+//! on every axis: each is a minimum or maximum over the axes, which does not depend on the order the
+//! axes are taken in, and an axis is passed over only when no value within its bounds could change
+//! it.
 //!
 //! These are computed here rather than by parry's GJK/EPA, which reports zero penetration for
 //! overlapping polygons whose edges lie on a common line (a triangle standing on the edge of a jaw
@@ -87,7 +88,7 @@ impl<'a> Extremes<'a> {
         (at, value)
     }
 
-    /// `(a value at least the least projection on `axis`, a value at most the greatest)`, both
+    /// A value at least the least projection on `axis` and a value at most the greatest, both
     /// computed as [`ConvexPolygon::projection`] computes them.
     pub(crate) fn bounds(&mut self, axis: &Vector2<f64>) -> (f64, f64) {
         let (low, low_value) = self.climb(axis, self.at.0, |a, b| a < b);
