@@ -24,7 +24,7 @@ mod split;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::geometry::{ConvexPolygon, Extremes};
+use crate::geometry::{ConvexPolygon, Extremes, worth_pruning};
 use crate::outcome::{Abilities, Outcome};
 use crate::scene::{ObjectId, Scene};
 
@@ -142,9 +142,11 @@ pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> boo
     }
     let spacing = gap * (members.len() - 1) as f64;
     let outlines: Vec<&ConvexPolygon> = members.iter().map(|&m| scene.world_polygon(m)).collect();
-    // Widths are bounded from below first (extreme vertices climbed from the last axis's), and
-    // measured in full only on axes where the bounds still leave room: the same answer, cheaper on
-    // outlines of many vertices.
+    // On outlines of many vertices, widths are bounded from below first (extreme vertices climbed
+    // from the last axis's) and measured in full only on axes where the bounds still leave room:
+    // the same answer, cheaper there.
+    let most = outlines.iter().map(|o| o.len()).max().unwrap_or(0);
+    let prune = worth_pruning(most, most);
     let mut extremes: Vec<Extremes<'_>> = outlines.iter().map(|o| Extremes::new(o)).collect();
     outlines.iter().any(|outline| {
         outline.edges().any(|(a, b)| {
@@ -152,13 +154,17 @@ pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> boo
             let axis = nalgebra::Vector2::new(edge.y, -edge.x).normalize();
             // `width` measures along the axis normalised once more; the bounds use the same.
             let unit = axis.normalize();
-            let least: f64 = extremes
-                .iter_mut()
-                .map(|e| {
-                    let (low, high) = e.bounds(&unit);
-                    high - low
-                })
-                .sum();
+            let least: f64 = if !prune {
+                f64::NEG_INFINITY
+            } else {
+                extremes
+                    .iter_mut()
+                    .map(|e| {
+                        let (low, high) = e.bounds(&unit);
+                        high - low
+                    })
+                    .sum()
+            };
             if least + spacing > limit {
                 return false;
             }

@@ -17,7 +17,8 @@
 //! Projecting both polygons on all `n + m` axes costs `(n + m)²`, which adds up on traced outlines of
 //! tens of vertices. So each query first bounds an axis's projections by `Extremes` (a vertex of
 //! each polygon that climbs round it as the axes turn, a few steps per axis) and projects in full
-//! only on the axes whose bounds could still change the answer. The answers are those of projecting
+//! only on the axes whose bounds could still change the answer (for pairs of many vertices; others
+//! are projected plainly, see `worth_pruning`). The answers are those of projecting
 //! on every axis: each is a minimum or maximum over the axes, which does not depend on the order the
 //! axes are taken in, and an axis is passed over only when no value within its bounds could change
 //! it.
@@ -29,6 +30,7 @@
 use nalgebra::{Point2, Vector2};
 
 use super::polygon::ConvexPolygon;
+use super::worth_pruning;
 
 /// Overlap below this (metres) is not penetration: rounding in positions computed from one another.
 const PENETRATION_EPSILON: f64 = 1e-12;
@@ -101,6 +103,28 @@ impl<'a> Extremes<'a> {
 /// How deep two polygons interpenetrate, metres: the smallest translation that separates them; 0
 /// when they are apart or only touch.
 pub fn penetration_depth(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
+    if worth_pruning(first.len(), second.len()) {
+        penetration_depth_pruned(first, second)
+    } else {
+        penetration_depth_plainly(first, second)
+    }
+}
+
+fn penetration_depth_plainly(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
+    let mut depth = f64::INFINITY;
+    for axis in normals(first).chain(normals(second)) {
+        let (a0, a1) = first.projection(&axis);
+        let (b0, b1) = second.projection(&axis);
+        let overlap = a1.min(b1) - a0.max(b0);
+        if overlap <= 0.0 {
+            return 0.0;
+        }
+        depth = depth.min(overlap);
+    }
+    depth
+}
+
+fn penetration_depth_pruned(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
     let mut depth = f64::INFINITY;
     // The axes in two runs, each turning counter-clockwise: `first`'s edge normals, then `second`'s.
     let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
@@ -132,16 +156,62 @@ pub fn cast_distance(
     max_distance: f64,
     obstacle: &ConvexPolygon,
 ) -> Option<f64> {
+    if worth_pruning(moving.len(), obstacle.len()) {
+        cast_distance_pruned(moving, direction, max_distance, obstacle)
+    } else {
+        cast_distance_plainly(moving, direction, max_distance, obstacle)
+    }
+}
+
+/// The times of overlap on an axis moving at `speed` (not near 0), from the projections of the
+/// moving polygon (a) and the obstacle (b): a1 + t·v > b0 + ε and b1 − ε > a0 + t·v.
+fn overlap_times((a0, a1): (f64, f64), (b0, b1): (f64, f64), speed: f64) -> (f64, f64) {
     let eps = PENETRATION_EPSILON;
-    // On an axis moving at `speed`, the times of overlap run from `low` to `high`, given the
-    // projections of `moving` (a) and `obstacle` (b): a1 + t·v > b0 + ε and b1 − ε > a0 + t·v.
-    let interval = |(a0, a1): (f64, f64), (b0, b1): (f64, f64), speed: f64| {
-        if speed > 0.0 {
-            ((b0 + eps - a1) / speed, (b1 - eps - a0) / speed)
-        } else {
-            ((b1 - eps - a0) / speed, (b0 + eps - a1) / speed)
+    if speed > 0.0 {
+        ((b0 + eps - a1) / speed, (b1 - eps - a0) / speed)
+    } else {
+        ((b1 - eps - a0) / speed, (b0 + eps - a1) / speed)
+    }
+}
+
+fn cast_distance_plainly(
+    moving: &ConvexPolygon,
+    direction: &Vector2<f64>,
+    max_distance: f64,
+    obstacle: &ConvexPolygon,
+) -> Option<f64> {
+    let eps = PENETRATION_EPSILON;
+    let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+    for axis in normals(moving).chain(normals(obstacle)) {
+        let (a0, a1) = moving.projection(&axis);
+        let (b0, b1) = obstacle.projection(&axis);
+        let speed = axis.dot(direction);
+        if speed.abs() < 1e-15 {
+            if a1 > b0 + eps && b1 > a0 + eps {
+                continue;
+            }
+            return None;
         }
-    };
+        let (low, high) = overlap_times((a0, a1), (b0, b1), speed);
+        enter = enter.max(low);
+        exit = exit.min(high);
+        if enter >= exit {
+            return None;
+        }
+    }
+    if exit <= 0.0 || enter > max_distance {
+        return None;
+    }
+    Some(enter.max(0.0))
+}
+
+fn cast_distance_pruned(
+    moving: &ConvexPolygon,
+    direction: &Vector2<f64>,
+    max_distance: f64,
+    obstacle: &ConvexPolygon,
+) -> Option<f64> {
+    let eps = PENETRATION_EPSILON;
     let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
     let (mut a, mut b) = (Extremes::new(moving), Extremes::new(obstacle));
     for owner in [moving, obstacle] {
@@ -152,7 +222,7 @@ pub fn cast_distance(
                 // From the bounds, the latest `low` and the earliest `high` the axis can have: the
                 // true lower ends are at most `a0` and `b0`, the upper ends at least `a1` and `b1`,
                 // and each end of the interval is monotone in them.
-                let (latest_low, earliest_high) = interval((a0, a1), (b0, b1), speed);
+                let (latest_low, earliest_high) = overlap_times((a0, a1), (b0, b1), speed);
                 if latest_low <= enter && earliest_high >= exit {
                     continue;
                 }
@@ -165,7 +235,7 @@ pub fn cast_distance(
                 }
                 return None;
             }
-            let (low, high) = interval((a0, a1), (b0, b1), speed);
+            let (low, high) = overlap_times((a0, a1), (b0, b1), speed);
             enter = enter.max(low);
             exit = exit.min(high);
             if enter >= exit {
@@ -184,6 +254,25 @@ pub fn cast_distance(
 /// its magnitude is the penetration depth). The first such axis when several tie, `first`'s normals
 /// before `second`'s.
 pub fn max_separation(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
+    if worth_pruning(first.len(), second.len()) {
+        max_separation_pruned(first, second)
+    } else {
+        max_separation_plainly(first, second)
+    }
+}
+
+fn max_separation_plainly(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
+    let mut best = (Vector2::x(), f64::NEG_INFINITY);
+    for axis in normals(first).chain(normals(second).map(|n| -n)) {
+        let separation = second.projection(&axis).0 - first.projection(&axis).1;
+        if separation > best.1 {
+            best = (axis, separation);
+        }
+    }
+    best
+}
+
+fn max_separation_pruned(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
     let mut best = (Vector2::x(), f64::NEG_INFINITY);
     // `first`'s outward normals, then `second`'s turned to point out of `first`.
     let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
@@ -310,84 +399,16 @@ mod tests {
         assert_eq!(contact_patch(&a, &square(1.1, 0.0, 1.0), 1e-9), None);
     }
 
-    // The queries written plainly, projecting on every axis: what the pruned ones must answer.
-    fn every_axis(first: &ConvexPolygon, second: &ConvexPolygon) -> Vec<Vector2<f64>> {
-        normals(first).chain(normals(second)).collect()
-    }
-
-    fn penetration_depth_by_every_axis(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
-        let mut depth = f64::INFINITY;
-        for axis in every_axis(first, second) {
-            let (a0, a1) = first.projection(&axis);
-            let (b0, b1) = second.projection(&axis);
-            let overlap = a1.min(b1) - a0.max(b0);
-            if overlap <= 0.0 {
-                return 0.0;
-            }
-            depth = depth.min(overlap);
-        }
-        depth
-    }
-
-    fn cast_distance_by_every_axis(
-        moving: &ConvexPolygon,
-        direction: &Vector2<f64>,
-        max_distance: f64,
-        obstacle: &ConvexPolygon,
-    ) -> Option<f64> {
-        let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
-        let eps = PENETRATION_EPSILON;
-        for axis in every_axis(moving, obstacle) {
-            let (a0, a1) = moving.projection(&axis);
-            let (b0, b1) = obstacle.projection(&axis);
-            let speed = axis.dot(direction);
-            if speed.abs() < 1e-15 {
-                if a1 > b0 + eps && b1 > a0 + eps {
-                    continue;
-                }
-                return None;
-            }
-            let (low, high) = if speed > 0.0 {
-                ((b0 + eps - a1) / speed, (b1 - eps - a0) / speed)
-            } else {
-                ((b1 - eps - a0) / speed, (b0 + eps - a1) / speed)
-            };
-            enter = enter.max(low);
-            exit = exit.min(high);
-            if enter >= exit {
-                return None;
-            }
-        }
-        if exit <= 0.0 || enter > max_distance {
-            return None;
-        }
-        Some(enter.max(0.0))
-    }
-
-    fn max_separation_by_every_axis(
-        first: &ConvexPolygon,
-        second: &ConvexPolygon,
-    ) -> (Vector2<f64>, f64) {
-        let mut best = (Vector2::x(), f64::NEG_INFINITY);
-        for axis in normals(first).chain(normals(second).map(|n| -n)) {
-            let separation = second.projection(&axis).0 - first.projection(&axis).1;
-            if separation > best.1 {
-                best = (axis, separation);
-            }
-        }
-        best
-    }
-
     #[test]
     fn pruned_queries_answer_as_projecting_on_every_axis() {
         let pairs = crate::geometry::test_pairs(11, 20_000, (-0.1, 0.1));
         let mut random = crate::random::SeededRng::new(12);
         for (p, q) in &pairs {
             assert_eq!(
-                penetration_depth(p, q),
-                penetration_depth_by_every_axis(p, q)
+                penetration_depth_pruned(p, q),
+                penetration_depth_plainly(p, q)
             );
-            assert_eq!(max_separation(p, q), max_separation_by_every_axis(p, q));
+            assert_eq!(max_separation_pruned(p, q), max_separation_plainly(p, q));
             let angle = random.uniform(0.0, std::f64::consts::TAU);
             for direction in [
                 Vector2::new(angle.cos(), angle.sin()),
@@ -395,8 +416,8 @@ mod tests {
                 Vector2::x(),
             ] {
                 assert_eq!(
-                    cast_distance(p, &direction, 0.2, q),
-                    cast_distance_by_every_axis(p, &direction, 0.2, q)
+                    cast_distance_pruned(p, &direction, 0.2, q),
+                    cast_distance_plainly(p, &direction, 0.2, q)
                 );
             }
         }
