@@ -54,7 +54,7 @@ pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, simplify};
 /// themselves only on outlines of many vertices. Measured by `cargo bench --bench planners`
 /// (push-mog-time's median planning per trip, seeds 1–5): pruning everywhere took the library's
 /// outlines (3 to 8 vertices) from 12.8–13.3 ms to 14.4–14.8 ms, and rounded corners (18 to 48)
-/// from 40.2–41.2 ms to 37.1–38.4 ms.
+/// from 40.2–42.9 ms to 37.1–38.4 ms (pruning only where this says so: 13.6–13.8 and 37.1–38.4).
 pub(crate) fn worth_pruning(n: usize, m: usize) -> bool {
     n * m > 64
 }
