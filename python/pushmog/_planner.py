@@ -4,7 +4,7 @@ its loop) or clears a whole scene with pushmog's own executors."""
 from __future__ import annotations
 
 import json
-from typing import Any, Mapping, Optional, Union
+from typing import Any, Iterable, Mapping, Optional, Union
 
 from ._errors import PushmogError
 from . import _native
@@ -39,10 +39,22 @@ class TripContext:
     def __init__(self, seed: int = 0) -> None:
         self._native = _native.TripContext(int(seed))
 
-    def record_failure(self, trip: TripPlan) -> None:
+    def record_failure(self, trip: TripPlan, landed_on: Optional[int] = None) -> None:
         """The grasp of ``trip`` carried nothing: do not propose those jaws again, and after the
-        second such grasp of the same objects, do not grasp them together again."""
-        self._native.add_failed(json.dumps(trip.to_dict()["grasp"]))
+        second such grasp of the same objects, do not grasp them together again. ``landed_on``: the
+        object a finger came down on, when the grasp stopped on one (see
+        :meth:`forget_landings_on`)."""
+        self._native.add_failed(
+            json.dumps(trip.to_dict()["grasp"]), None if landed_on is None else int(landed_on)
+        )
+
+    def forget_landings_on(self, carried: Iterable[int]) -> bool:
+        """Forgets the failed grasps that came down on one of ``carried``, the ids of objects carried
+        to the bin since, so that their places may be proposed again; whether any was forgotten.
+        An object merely no longer seen may still lie where the fingers came down, so pass only
+        carried ones. pushmog's own loop calls it only when nothing could be planned: while other
+        grasps remain, the place that failed is still passed over."""
+        return bool(self._native.forget_landings_on([int(i) for i in carried]))
 
     @property
     def failed(self) -> list:

@@ -228,11 +228,23 @@ impl TripContext {
     }
 
     /// Records that this grasp (JSON of a trip's `grasp`) carried nothing: its jaws, and its
-    /// objects when there were several.
-    fn add_failed(&mut self, grasp: &str) -> PyResult<()> {
+    /// objects when there were several; with `landed_on`, the object a finger came down on.
+    #[pyo3(signature = (grasp, landed_on = None))]
+    fn add_failed(&mut self, grasp: &str, landed_on: Option<u32>) -> PyResult<()> {
         let grasp: Grasp = check(json::from_json(grasp, "grasp"))?;
-        self.context.record_failure(&grasp);
+        match landed_on {
+            Some(on) => self
+                .context
+                .record_landing(&grasp, pushmog::scene::ObjectId(on)),
+            None => self.context.record_failure(&grasp),
+        }
         Ok(())
+    }
+
+    /// Forgets the failed grasps that came down on one of `carried` (ids); whether any was.
+    fn forget_landings_on(&mut self, carried: Vec<u32>) -> bool {
+        let carried: Vec<_> = carried.into_iter().map(pushmog::scene::ObjectId).collect();
+        self.context.forget_landings_on(&carried)
     }
 
     /// The jaw poses recorded as failed, as JSON.

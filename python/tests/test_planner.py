@@ -195,6 +195,22 @@ def test_failed_grasps_are_not_proposed_again(scene):
     assert context.failed_together == []  # a single-object grasp gives up no set
 
 
+def test_a_grasp_that_landed_is_forgotten_once_the_object_is_carried(scene):
+    """A failed grasp that came down on an object is forgotten once that object is carried, and
+    only then; a failure without a landing is kept."""
+    planner = pushmog.Planner("sog")
+    context = pushmog.TripContext(0)
+    trip = planner.plan_trip(scene, context)
+    on = next(o["id"] for o in scene.to_dict()["objects"] if o["id"] not in trip.grasp.objects)
+    context.record_failure(trip, landed_on=on)
+    context.record_failure(trip)
+    assert not context.forget_landings_on(trip.grasp.objects)
+    assert len(context.failed) == 2
+    assert context.forget_landings_on([on])
+    assert len(context.failed) == 1
+    assert not context.forget_landings_on([on])
+
+
 def test_objects_that_failed_together_twice_are_taken_apart():
     """Two multi-object grasps of the same objects that carried nothing: the next trip grasps no set
     of exactly those objects."""

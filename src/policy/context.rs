@@ -10,7 +10,9 @@ use crate::random::SeededRng;
 use crate::scene::ObjectId;
 
 /// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
-/// the jaw poses where grasps carried nothing (not tried again in practically the same place), the
+/// the jaw poses where grasps carried nothing (not tried again in practically the same place, unless
+/// the grasp came down on an object since carried away and nothing else can be planned:
+/// [`TripContext::forget_landings_on`]), the
 /// sets of objects whose multi-object grasps carried nothing (after [`GIVE_UP_AFTER`] such grasps,
 /// those objects are taken one at a time), and the pushes whose fingers came down on an object (if
 /// the camera cannot see it, the pushed object is not pushed again with the fingers lowered near
@@ -21,6 +23,8 @@ pub struct TripContext {
     pub(super) rng: SeededRng,
     /// Jaw poses of grasps that carried nothing.
     pub failed: Vec<JawPose>,
+    /// The grasps among `failed` whose jaws came down on an object, with that object.
+    pub failed_on: Vec<GraspLanding>,
     /// The objects (sorted) of each multi-object grasp that carried nothing.
     pub failed_together: Vec<Vec<ObjectId>>,
     /// Pushes during whose descent a finger came down on an object.
@@ -41,6 +45,15 @@ pub struct TripContext {
 /// and the next look sees them anew), so the set is given up after the second.
 pub const GIVE_UP_AFTER: usize = 2;
 
+/// A grasp that carried nothing because a finger came down on an object.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GraspLanding {
+    /// The grasp's jaws.
+    pub jaws: JawPose,
+    /// The object the finger came down on.
+    pub on: ObjectId,
+}
+
 /// A push during whose descent a finger came down on an object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Landing {
@@ -56,6 +69,7 @@ impl TripContext {
         Self {
             rng: SeededRng::new(seed),
             failed: Vec::new(),
+            failed_on: Vec::new(),
             failed_together: Vec::new(),
             landed: Vec::new(),
             ahead: Vec::new(),
@@ -71,6 +85,35 @@ impl TripContext {
             objects.sort_unstable();
             self.failed_together.push(objects);
         }
+    }
+
+    /// Notes a grasp that carried nothing because a finger came down on the object `on`.
+    pub fn record_landing(&mut self, grasp: &Grasp, on: ObjectId) {
+        self.record_failure(grasp);
+        self.failed_on.push(GraspLanding {
+            jaws: grasp.jaws,
+            on,
+        });
+    }
+
+    /// Forgets the failed grasps that came down on one of `carried`, objects known to have left the
+    /// table for the bin, so that their places may be tried again; whether any was forgotten. An
+    /// object merely no longer seen (lost outside the workspace, toppled, seen stacked) may still
+    /// lie where the fingers came down, so only carried objects count. The run calls this only
+    /// when nothing could be planned otherwise: while other grasps remain, the place that failed is
+    /// still passed over.
+    pub fn forget_landings_on(&mut self, carried: &[ObjectId]) -> bool {
+        let (gone, kept): (Vec<GraspLanding>, Vec<GraspLanding>) = self
+            .failed_on
+            .iter()
+            .partition(|landing| carried.contains(&landing.on));
+        for landing in &gone {
+            if let Some(k) = self.failed.iter().position(|jaws| *jaws == landing.jaws) {
+                self.failed.remove(k);
+            }
+        }
+        self.failed_on = kept;
+        !gone.is_empty()
     }
 
     /// Whether `grasp` takes two or more objects that are still to be grasped together.

@@ -11,6 +11,7 @@
 use std::time::Instant;
 
 use super::context::{Landing, TripContext};
+use super::{NoTrip, TripPlan};
 use super::{Policy, TimeModel};
 use crate::error::Result;
 use crate::exec::Executor;
@@ -108,13 +109,17 @@ impl<'a> Run<'a> {
             });
             return Ok(self.status.as_ref());
         }
-        let started = Instant::now();
-        let planned = self.policy.plan_trip_with(&observed, &mut self.context)?;
-        self.timing.planning.push(started.elapsed().as_secs_f64());
-        if let Some(seconds) = planned.stats.counter("clustering_seconds") {
-            self.timing.clustering.push(seconds);
+        let mut planned = self.plan_trip(&observed)?;
+        if planned.is_err() {
+            let carried: Vec<ObjectId> =
+                self.trips.iter().flat_map(|t| t.carried.clone()).collect();
+            if self.context.forget_landings_on(&carried) {
+                // Grasps that came down on an object since carried away stopped every plan: their
+                // places are tried again.
+                planned = self.plan_trip(&observed)?;
+            }
         }
-        let trip = match planned.trip {
+        let trip = match planned {
             Ok(trip) => trip,
             Err(no_trip) => {
                 self.failed_attempts.push(no_trip.to_string());
@@ -189,12 +194,28 @@ impl<'a> Run<'a> {
         place_and_grasp(&mut record, executor)?;
         if record.carried.is_empty() {
             self.in_a_row += 1;
-            self.context.record_failure(&record.plan.grasp);
+            match record.fault {
+                Some(Fault::Grasp { object }) => {
+                    self.context.record_landing(&record.plan.grasp, object);
+                }
+                _ => self.context.record_failure(&record.plan.grasp),
+            }
         } else {
             self.in_a_row = 0;
         }
         self.trips.push(record);
         Ok(None)
+    }
+
+    /// Plans a trip on `observed`, timing it.
+    fn plan_trip(&mut self, observed: &Scene) -> Result<std::result::Result<TripPlan, NoTrip>> {
+        let started = Instant::now();
+        let planned = self.policy.plan_trip_with(observed, &mut self.context)?;
+        self.timing.planning.push(started.elapsed().as_secs_f64());
+        if let Some(seconds) = planned.stats.counter("clustering_seconds") {
+            self.timing.clustering.push(seconds);
+        }
+        Ok(planned.trip)
     }
 
     /// The objects of `lost` (the executor's report at an observation) that the report before did
