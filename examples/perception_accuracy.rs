@@ -12,6 +12,8 @@
 //! `PUSHMOG_LIBRARY=1` names the objects from the scenes' object set instead (no prior): how many
 //! take their own shape's name (or that of a shape with the same outline), and the yaw error of the
 //! pose found, up to the shape's symmetries.
+//! `PUSHMOG_FIT_SIDES=1` turns on `PerceptionSettings::fit_sides`.
+//! `PUSHMOG_FIRST_SEED` moves the scenes' seeds from `1..=scenes` to start there.
 //! `PUSHMOG_WORST=1` also prints each object missed, and each found with IoU under 0.94 or a d*
 //! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame).
 
@@ -128,7 +130,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut rows: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
     let mut statuses: BTreeMap<String, usize> = BTreeMap::new();
     let mut missed = 0;
-    for seed in 1..=scenes {
+    let first: u64 = std::env::var("PUSHMOG_FIRST_SEED")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(1);
+    for seed in first..first + scenes {
         let set = if input == "bars" {
             serde_json::from_str(&std::fs::read_to_string("experiments/thin-bars.json")?)?
         } else {
@@ -186,7 +192,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             scene.workspace(),
             scene.gripper(),
             std::env::var("PUSHMOG_PRIOR").is_ok().then_some(&scene),
-            &PerceptionSettings::default(),
+            &PerceptionSettings {
+                fit_sides: std::env::var("PUSHMOG_FIT_SIDES").is_ok_and(|v| v == "1"),
+                ..PerceptionSettings::default()
+            },
         )?;
         rows.entry("perceive ms")
             .or_default()

@@ -257,7 +257,7 @@ pub fn judge(
         }
         _ => (blob.pixels.clone(), blob.cut),
     };
-    let hull = image_hull(&pixels, width);
+    let hull = image_hull(&pixels, width, settings.fit_sides);
     let solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
     // A top measured from depth at or below the cut height (a flat thing, or a label lying on the
     // table) stands on nothing the mask holds: no footprint, so the blob is too small.

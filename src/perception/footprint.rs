@@ -21,6 +21,7 @@
 use nalgebra::{Point2, Vector2};
 
 use super::camera::Camera;
+use super::sides::{agrees, area_matching_offset, boundary, fitted_outline};
 use super::table::TablePlane;
 use crate::geometry::{ConvexPolygon, clip, convex_hull, loop_area, tidy_polygon};
 
@@ -34,50 +35,29 @@ pub struct ImageHull {
     pub solidity: f64,
 }
 
-/// The hull of the pixels `pixels` (indices into rows of `width`), with the area-matched correction.
+/// The hull of the pixels `pixels` (indices into rows of `width`), with the area-matched correction;
+/// with `fit_sides`, the outline of its fitted sides where it agrees with that (`sides.rs`).
 /// `None` when the pixels lie on one line.
-pub fn image_hull(pixels: &[usize], width: usize) -> Option<ImageHull> {
-    let mut rows: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
-    for &i in pixels {
-        let (u, v) = (i % width, i / width);
-        let e = rows.entry(v).or_insert((u, u));
-        e.0 = e.0.min(u);
-        e.1 = e.1.max(u);
-    }
-    let points: Vec<Point2<f64>> = rows
-        .iter()
-        .flat_map(|(&v, &(low, high))| {
-            [
-                Point2::new(low as f64, v as f64),
-                Point2::new(high as f64, v as f64),
-            ]
-        })
-        .collect();
-    let hull = convex_hull(&points);
+pub fn image_hull(pixels: &[usize], width: usize, fit_sides: bool) -> Option<ImageHull> {
+    let boundary = boundary(pixels, width);
+    let hull = convex_hull(&boundary);
     if hull.len() < 3 {
         return None;
     }
-    let area = loop_area(&hull);
-    let perimeter: f64 = (0..hull.len())
-        .map(|k| (hull[(k + 1) % hull.len()] - hull[k]).norm())
-        .sum();
     let count = pixels.len() as f64;
-    // A mitred offset by δ has area A + P·δ + K·δ², K = Σ tan(φ/2) over the exterior angles φ.
-    let n = hull.len();
-    let bend: f64 = (0..n)
-        .map(|k| {
-            let (a, b, c) = (hull[(k + n - 1) % n], hull[k], hull[(k + 1) % n]);
-            let (e1, e2) = ((b - a).normalize(), (c - b).normalize());
-            let turn = e1.perp(&e2).atan2(e1.dot(&e2));
-            (0.5 * turn).tan()
-        })
-        .sum();
-    let excess = count - area;
-    let delta = (2.0 * excess
-        / (perimeter + (perimeter.powi(2) + 4.0 * bend * excess).max(0.0).sqrt()))
-    .clamp(-1.5, 1.0);
+    let delta = area_matching_offset(&hull, count);
+    let offset_hull = offset(&hull, delta);
+    // Sides fitted to the blob's boundary pixels, the median's cut tips put back; the hull itself
+    // where the two disagree (`sides.rs`).
+    let corners = if fit_sides {
+        fitted_outline(&hull, &boundary, count)
+            .filter(|fitted| agrees(fitted, &offset_hull))
+            .unwrap_or(offset_hull)
+    } else {
+        offset_hull
+    };
     Some(ImageHull {
-        corners: offset(&hull, delta),
+        corners,
         solidity: solidity(pixels, width, &hull, 2.0),
     })
 }
@@ -236,7 +216,7 @@ mod tests {
         let pixels: Vec<usize> = (5..15)
             .flat_map(|v| (3..13).map(move |u| v * width + u))
             .collect();
-        let hull = image_hull(&pixels, width).unwrap();
+        let hull = image_hull(&pixels, width, false).unwrap();
         // 100 pixels: the centre hull is 9 × 9, grown by half a pixel it is 10 × 10.
         assert!((loop_area(&hull.corners) - 100.0).abs() < 1e-9);
         assert!((hull.solidity - 1.0).abs() < 1e-9);

@@ -36,6 +36,7 @@ mod perceive;
 mod render;
 mod report;
 mod settings;
+mod sides;
 mod table;
 mod track;
 

@@ -42,6 +42,16 @@ pub struct PerceptionSettings {
     pub overlap_repair: f64,
     /// Largest reach of a footprint beyond the workspace that is trimmed rather than reported, metres.
     pub edge_trim: f64,
+    /// Fit a line to each side of a blob and put back the corner tips that the 3×3 median cut,
+    /// instead of taking the hull of its pixels (`formulations/perception.md`, "Sides fitted, tips
+    /// put back"). Off by default: it makes outlines more accurate on average but not in the worst
+    /// case, and it moves near-limit plans. Left out of written settings when off.
+    #[serde(skip_serializing_if = "is_false")]
+    pub fit_sides: bool,
+}
+
+fn is_false(value: &bool) -> bool {
+    !*value
 }
 
 impl Default for PerceptionSettings {
@@ -61,6 +71,7 @@ impl Default for PerceptionSettings {
             stacked_fraction: 0.15,
             overlap_repair: 0.002,
             edge_trim: 0.001,
+            fit_sides: false,
         }
     }
 }
