@@ -11,8 +11,7 @@
 use std::time::Instant;
 
 use super::context::{Landing, TripContext};
-use super::{NoTrip, TripPlan};
-use super::{Policy, TimeModel};
+use super::{NoTrip, Policy, TimeModel, TripPlan};
 use crate::error::Result;
 use crate::exec::Executor;
 use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, SharedScene, StopReason, Trip};
