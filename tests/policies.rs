@@ -693,16 +693,27 @@ fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
     assert!(context.failed_together.is_empty());
 }
 
-/// An executor that, after its first grasp, loses one object the grasp left (as if pushed out of
-/// the workspace): the object is no longer seen, and `lost` names it.
-struct LosesOne {
+/// A test executor: the ideal executor, whose grasps go through `hook`.
+struct Rigged<H> {
     table: pushmog::exec::Ideal,
-    lost: Option<pushmog::scene::ObjectId>,
+    hook: H,
 }
 
-impl pushmog::exec::Executor for LosesOne {
+/// What a [`Rigged`] executor does in place of the ideal executor's grasp, and what it reports lost.
+trait GraspHook {
+    fn grasp(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult>;
+    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        Vec::new()
+    }
+}
+
+impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
     fn name(&self) -> &'static str {
-        "loses-one"
+        "rigged"
     }
     fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
         self.table.reset(scene)
@@ -717,18 +728,38 @@ impl pushmog::exec::Executor for LosesOne {
         &mut self,
         grasp: &pushmog::grasp::Grasp,
     ) -> pushmog::Result<pushmog::exec::GraspResult> {
-        let result = self.table.grasp(grasp)?;
-        if self.lost.is_none() {
-            let left = self.table.observe()?;
-            let gone = left.objects()[0].id;
-            let kept = left.objects()[1..].to_vec();
-            self.table.reset(&left.with_objects(kept)?)?;
-            self.lost = Some(gone);
-        }
-        Ok(result)
+        self.hook.grasp(&mut self.table, grasp)
     }
     fn observe(&mut self) -> pushmog::Result<Scene> {
         self.table.observe()
+    }
+    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        self.hook.lost()
+    }
+}
+
+/// After its first grasp, loses one object the grasp left (as if pushed out of the workspace): the
+/// object is no longer seen, and `lost` names it.
+struct LosesOne {
+    lost: Option<pushmog::scene::ObjectId>,
+}
+
+impl GraspHook for LosesOne {
+    fn grasp(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        use pushmog::exec::Executor;
+        let result = table.grasp(grasp)?;
+        if self.lost.is_none() {
+            let left = table.observe()?;
+            let gone = left.objects()[0].id;
+            let kept = left.objects()[1..].to_vec();
+            table.reset(&left.with_objects(kept)?)?;
+            self.lost = Some(gone);
+        }
+        Ok(result)
     }
     fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
         self.lost
@@ -745,12 +776,12 @@ fn the_trip_that_lost_an_object_names_it() {
     use pushmog::plan::{LostObject, StopReason};
     let policy = Policy::new(PolicyKind::PushMog, PolicySettings::default()).unwrap();
     let table = scene(2);
-    let mut executor = LosesOne {
+    let mut executor = Rigged {
         table: policy.ideal(),
-        lost: None,
+        hook: LosesOne { lost: None },
     };
     let plan = policy.run(&table, &mut executor, 3).unwrap();
-    let gone = executor.lost.expect("the first grasp was made");
+    let gone = executor.hook.lost.expect("the first grasp was made");
     assert_eq!(
         plan.trips[0].lost,
         vec![LostObject {
@@ -775,33 +806,22 @@ fn the_trip_that_lost_an_object_names_it() {
     assert!(replay.contains(&format!("lost {gone} (outside the workspace)")));
 }
 
-/// An executor whose grasps of one object come down on another (as a grasp does when the table
-/// seen is a little off) for as long as that other object is on the table.
+/// Grasps of `object` come down on `blocker` (as a grasp does when the table seen is a little
+/// off) for as long as `blocker` is on the table.
 struct InTheWay {
-    table: pushmog::exec::Ideal,
     object: pushmog::scene::ObjectId,
     blocker: pushmog::scene::ObjectId,
     landings: usize,
 }
 
-impl pushmog::exec::Executor for InTheWay {
-    fn name(&self) -> &'static str {
-        "in-the-way"
-    }
-    fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
-        self.table.reset(scene)
-    }
-    fn push(
-        &mut self,
-        push: &pushmog::push::Push,
-    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
-        self.table.push(push)
-    }
+impl GraspHook for InTheWay {
     fn grasp(
         &mut self,
+        table: &mut pushmog::exec::Ideal,
         grasp: &pushmog::grasp::Grasp,
     ) -> pushmog::Result<pushmog::exec::GraspResult> {
-        let there = self.table.observe()?.index_of(self.blocker).is_some();
+        use pushmog::exec::Executor;
+        let there = table.observe()?.index_of(self.blocker).is_some();
         if there && grasp.objects.contains(&self.object) {
             self.landings += 1;
             return Ok(pushmog::exec::GraspResult {
@@ -811,10 +831,7 @@ impl pushmog::exec::Executor for InTheWay {
                 }),
             });
         }
-        self.table.grasp(grasp)
-    }
-    fn observe(&mut self) -> pushmog::Result<Scene> {
-        self.table.observe()
+        table.grasp(grasp)
     }
 }
 
@@ -832,11 +849,13 @@ fn a_grasp_that_landed_on_an_object_now_gone_is_tried_again() {
     let policy = Policy::new(PolicyKind::Sog, PolicySettings::default()).unwrap();
     let mut blocked_first = 0;
     for seed in 0..4 {
-        let mut executor = InTheWay {
+        let mut executor = Rigged {
             table: policy.ideal(),
-            object: ObjectId(0),
-            blocker: ObjectId(1),
-            landings: 0,
+            hook: InTheWay {
+                object: ObjectId(0),
+                blocker: ObjectId(1),
+                landings: 0,
+            },
         };
         let plan = policy.run(&table, &mut executor, seed).unwrap();
         assert_eq!(plan.status, RunStatus::Cleared, "seed {seed}");
@@ -845,7 +864,7 @@ fn a_grasp_that_landed_on_an_object_now_gone_is_tried_again() {
         if first.objects == [ObjectId(0)] {
             // The first trip went for the bar that cannot be carried yet: one landing, then the
             // other bar, then the first again in the place that failed.
-            assert_eq!(executor.landings, 1, "seed {seed}");
+            assert_eq!(executor.hook.landings, 1, "seed {seed}");
             assert_eq!(plan.trips.len(), 3);
             assert!(plan.trips[2].plan.grasp.jaws.same_place(&first.jaws));
             blocked_first += 1;

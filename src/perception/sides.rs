@@ -345,25 +345,25 @@ mod tests {
                 (p - tip).norm() > 4.0
             })
             .collect();
-        let points: Vec<Point2<f64>> = pixels
-            .iter()
-            .map(|&i| Point2::new((i % width) as f64, (i / width) as f64))
-            .collect();
-        let hull = convex_hull(&points);
-        let reach = |outline: &[Point2<f64>]| {
-            outline
-                .iter()
-                .map(|p| (p - tip).norm())
-                .fold(f64::INFINITY, f64::min)
-        };
-        assert!(reach(&hull) > 3.5, "the tip is cut");
+        let hull = convex_hull(&centres(&pixels, width));
+        assert!(reach_of(&hull, tip) > 3.5, "the tip is cut");
         let outline = fitted_outline(&hull, &boundary(&pixels, width), pixels.len() as f64)
             .expect("an outline");
-        assert!(reach(&outline) < 1.5, "tip {:.2} px away", reach(&outline));
+        let reach = reach_of(&outline, tip);
+        assert!(reach < 1.5, "tip {reach:.2} px away");
         let kept = [triangle[0], triangle[2]].map(|c| reach_of(&outline, c));
         assert!(kept.iter().all(|&d| d < 1.5), "{kept:?}");
     }
 
+    /// The centres of `pixels`.
+    fn centres(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
+        pixels
+            .iter()
+            .map(|&i| Point2::new((i % width) as f64, (i / width) as f64))
+            .collect()
+    }
+
+    /// How far the nearest corner of `outline` lies from `corner`.
     fn reach_of(outline: &[Point2<f64>], corner: Point2<f64>) -> f64 {
         outline
             .iter()
@@ -379,11 +379,7 @@ mod tests {
         let pixels: Vec<usize> = (5..25)
             .flat_map(|v| (3..23).map(move |u| v * width + u))
             .collect();
-        let points: Vec<Point2<f64>> = pixels
-            .iter()
-            .map(|&i| Point2::new((i % width) as f64, (i / width) as f64))
-            .collect();
-        let hull = convex_hull(&points);
+        let hull = convex_hull(&centres(&pixels, width));
         let outline = fitted_outline(&hull, &boundary(&pixels, width), 400.0).unwrap();
         assert!((loop_area(&outline) - 400.0).abs() < 1e-6);
         assert_eq!(outline.len(), 4);
