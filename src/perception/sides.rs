@@ -12,7 +12,9 @@
 //! Last, short sides between two fitted ones are dropped when the fitted lines meet within the
 //! depth a median cuts from a corner of their angle `α`, `TIP_REACH / sin(α/2)` pixels: the tip
 //! comes back where the two sides say it is. The pixel count the offset matched did not hold the
-//! tip, so the tip is put back after the match.
+//! tip, so the tip is put back after the match. Two guards against sides fitted to noise: a fit
+//! that turns more than `MAX_TURN` from its side is not used, and the caller keeps the hull
+//! where the outline and the hull overlap by less than [`AGREEMENT`] ([`agrees`]).
 
 use nalgebra::{Point2, Vector2};
 
