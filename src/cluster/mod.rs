@@ -146,15 +146,18 @@ pub fn admits_row(scene: &Scene, members: &[usize], limit: f64, gap: f64) -> boo
     // from the last axis's) and measured in full only on axes where the bounds still leave room:
     // the same answer, cheaper there.
     let most = outlines.iter().map(|o| o.len()).max().unwrap_or(0);
-    let prune = worth_pruning(most, most);
-    let mut extremes: Vec<Extremes<'_>> = outlines.iter().map(|o| Extremes::new(o)).collect();
+    let mut extremes: Vec<Extremes<'_>> = if worth_pruning(most, most) {
+        outlines.iter().map(|o| Extremes::new(o)).collect()
+    } else {
+        Vec::new()
+    };
     outlines.iter().any(|outline| {
         outline.edges().any(|(a, b)| {
             let edge = b - a;
             let axis = nalgebra::Vector2::new(edge.y, -edge.x).normalize();
             // `width` measures along the axis normalised once more; the bounds use the same.
             let unit = axis.normalize();
-            let least: f64 = if !prune {
+            let least: f64 = if extremes.is_empty() {
                 f64::NEG_INFINITY
             } else {
                 extremes

@@ -103,16 +103,24 @@ impl<'a> Extremes<'a> {
 /// How deep two polygons interpenetrate, metres: the smallest translation that separates them; 0
 /// when they are apart or only touch.
 pub fn penetration_depth(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
-    if worth_pruning(first.len(), second.len()) {
-        penetration_depth_pruned(first, second)
-    } else {
-        penetration_depth_plainly(first, second)
-    }
+    penetration_depth_with(first, second, worth_pruning(first.len(), second.len()))
 }
 
-fn penetration_depth_plainly(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
+/// [`penetration_depth`], with `prune`: an axis whose overlap, bounded from the extreme vertices
+/// climbed to so far, cannot lower the depth is not projected in full. The same answer either way.
+fn penetration_depth_with(first: &ConvexPolygon, second: &ConvexPolygon, prune: bool) -> f64 {
     let mut depth = f64::INFINITY;
+    // The axes in two runs, each turning counter-clockwise: `first`'s edge normals, then `second`'s.
+    let mut extremes = prune.then(|| (Extremes::new(first), Extremes::new(second)));
     for axis in normals(first).chain(normals(second)) {
+        if let Some((a, b)) = extremes.as_mut() {
+            // The overlap on this axis is at least this (rounding is monotone).
+            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
+            let least = a1.min(b1) - a0.max(b0);
+            if least > 0.0 && least >= depth {
+                continue;
+            }
+        }
         let (a0, a1) = first.projection(&axis);
         let (b0, b1) = second.projection(&axis);
         let overlap = a1.min(b1) - a0.max(b0);
@@ -120,30 +128,6 @@ fn penetration_depth_plainly(first: &ConvexPolygon, second: &ConvexPolygon) -> f
             return 0.0;
         }
         depth = depth.min(overlap);
-    }
-    depth
-}
-
-fn penetration_depth_pruned(first: &ConvexPolygon, second: &ConvexPolygon) -> f64 {
-    let mut depth = f64::INFINITY;
-    // The axes in two runs, each turning counter-clockwise: `first`'s edge normals, then `second`'s.
-    let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
-    for owner in [first, second] {
-        for axis in normals(owner) {
-            // The overlap on this axis is at least this (rounding is monotone).
-            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
-            let least = a1.min(b1) - a0.max(b0);
-            if least > 0.0 && least >= depth {
-                continue;
-            }
-            let (a0, a1) = first.projection(&axis);
-            let (b0, b1) = second.projection(&axis);
-            let overlap = a1.min(b1) - a0.max(b0);
-            if overlap <= 0.0 {
-                return 0.0;
-            }
-            depth = depth.min(overlap);
-        }
     }
     depth
 }
@@ -156,11 +140,8 @@ pub fn cast_distance(
     max_distance: f64,
     obstacle: &ConvexPolygon,
 ) -> Option<f64> {
-    if worth_pruning(moving.len(), obstacle.len()) {
-        cast_distance_pruned(moving, direction, max_distance, obstacle)
-    } else {
-        cast_distance_plainly(moving, direction, max_distance, obstacle)
-    }
+    let prune = worth_pruning(moving.len(), obstacle.len());
+    cast_distance_with(moving, direction, max_distance, obstacle, prune)
 }
 
 /// The times of overlap on an axis moving at `speed` (not near 0), from the projections of the
@@ -174,18 +155,35 @@ fn overlap_times((a0, a1): (f64, f64), (b0, b1): (f64, f64), speed: f64) -> (f64
     }
 }
 
-fn cast_distance_plainly(
+/// [`cast_distance`], with `prune`: an axis whose interval of overlap times, bounded from the
+/// extreme vertices climbed to so far, cannot narrow the interval found is not projected in full.
+/// The same answer either way.
+fn cast_distance_with(
     moving: &ConvexPolygon,
     direction: &Vector2<f64>,
     max_distance: f64,
     obstacle: &ConvexPolygon,
+    prune: bool,
 ) -> Option<f64> {
     let eps = PENETRATION_EPSILON;
     let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut extremes = prune.then(|| (Extremes::new(moving), Extremes::new(obstacle)));
     for axis in normals(moving).chain(normals(obstacle)) {
+        let speed = axis.dot(direction);
+        if let Some((a, b)) = extremes.as_mut() {
+            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
+            if speed.abs() >= 1e-15 {
+                // From the bounds, the latest `low` and the earliest `high` the axis can have: the
+                // true lower ends are at most `a0` and `b0`, the upper ends at least `a1` and `b1`,
+                // and each end of the interval is monotone in them.
+                let (latest_low, earliest_high) = overlap_times((a0, a1), (b0, b1), speed);
+                if latest_low <= enter && earliest_high >= exit {
+                    continue;
+                }
+            }
+        }
         let (a0, a1) = moving.projection(&axis);
         let (b0, b1) = obstacle.projection(&axis);
-        let speed = axis.dot(direction);
         if speed.abs() < 1e-15 {
             if a1 > b0 + eps && b1 > a0 + eps {
                 continue;
@@ -205,88 +203,35 @@ fn cast_distance_plainly(
     Some(enter.max(0.0))
 }
 
-fn cast_distance_pruned(
-    moving: &ConvexPolygon,
-    direction: &Vector2<f64>,
-    max_distance: f64,
-    obstacle: &ConvexPolygon,
-) -> Option<f64> {
-    let eps = PENETRATION_EPSILON;
-    let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
-    let (mut a, mut b) = (Extremes::new(moving), Extremes::new(obstacle));
-    for owner in [moving, obstacle] {
-        for axis in normals(owner) {
-            let speed = axis.dot(direction);
-            let ((a0, a1), (b0, b1)) = (a.bounds(&axis), b.bounds(&axis));
-            if speed.abs() >= 1e-15 {
-                // From the bounds, the latest `low` and the earliest `high` the axis can have: the
-                // true lower ends are at most `a0` and `b0`, the upper ends at least `a1` and `b1`,
-                // and each end of the interval is monotone in them.
-                let (latest_low, earliest_high) = overlap_times((a0, a1), (b0, b1), speed);
-                if latest_low <= enter && earliest_high >= exit {
-                    continue;
-                }
-            }
-            let (a0, a1) = moving.projection(&axis);
-            let (b0, b1) = obstacle.projection(&axis);
-            if speed.abs() < 1e-15 {
-                if a1 > b0 + eps && b1 > a0 + eps {
-                    continue;
-                }
-                return None;
-            }
-            let (low, high) = overlap_times((a0, a1), (b0, b1), speed);
-            enter = enter.max(low);
-            exit = exit.min(high);
-            if enter >= exit {
-                return None;
-            }
-        }
-    }
-    if exit <= 0.0 || enter > max_distance {
-        return None;
-    }
-    Some(enter.max(0.0))
-}
-
 /// The separating axis of largest separation between two polygons: the unit normal pointing out of
 /// `first` toward `second`, and the separation along it in metres (negative when they overlap; then
 /// its magnitude is the penetration depth). The first such axis when several tie, `first`'s normals
 /// before `second`'s.
 pub fn max_separation(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
-    if worth_pruning(first.len(), second.len()) {
-        max_separation_pruned(first, second)
-    } else {
-        max_separation_plainly(first, second)
-    }
+    max_separation_with(first, second, worth_pruning(first.len(), second.len()))
 }
 
-fn max_separation_plainly(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
-    let mut best = (Vector2::x(), f64::NEG_INFINITY);
-    for axis in normals(first).chain(normals(second).map(|n| -n)) {
-        let separation = second.projection(&axis).0 - first.projection(&axis).1;
-        if separation > best.1 {
-            best = (axis, separation);
-        }
-    }
-    best
-}
-
-fn max_separation_pruned(first: &ConvexPolygon, second: &ConvexPolygon) -> (Vector2<f64>, f64) {
+/// [`max_separation`], with `prune`: an axis whose separation, bounded from the extreme vertices
+/// climbed to so far, cannot beat the best is not projected in full. The same answer either way.
+fn max_separation_with(
+    first: &ConvexPolygon,
+    second: &ConvexPolygon,
+    prune: bool,
+) -> (Vector2<f64>, f64) {
     let mut best = (Vector2::x(), f64::NEG_INFINITY);
     // `first`'s outward normals, then `second`'s turned to point out of `first`.
-    let (mut a, mut b) = (Extremes::new(first), Extremes::new(second));
-    for (owner, sign) in [(first, 1.0), (second, -1.0)] {
-        for axis in normals(owner).map(|n| n * sign) {
+    let mut extremes = prune.then(|| (Extremes::new(first), Extremes::new(second)));
+    for axis in normals(first).chain(normals(second).map(|n| -n)) {
+        if let Some((a, b)) = extremes.as_mut() {
             // The separation on this axis is at most this.
             let ((_, a1), (b0, _)) = (a.bounds(&axis), b.bounds(&axis));
             if b0 - a1 <= best.1 {
                 continue;
             }
-            let separation = second.projection(&axis).0 - first.projection(&axis).1;
-            if separation > best.1 {
-                best = (axis, separation);
-            }
+        }
+        let separation = second.projection(&axis).0 - first.projection(&axis).1;
+        if separation > best.1 {
+            best = (axis, separation);
         }
     }
     best
@@ -405,10 +350,13 @@ mod tests {
         let mut random = crate::random::SeededRng::new(12);
         for (p, q) in &pairs {
             assert_eq!(
-                penetration_depth_pruned(p, q),
-                penetration_depth_plainly(p, q)
+                penetration_depth_with(p, q, true),
+                penetration_depth_with(p, q, false)
             );
-            assert_eq!(max_separation_pruned(p, q), max_separation_plainly(p, q));
+            assert_eq!(
+                max_separation_with(p, q, true),
+                max_separation_with(p, q, false)
+            );
             let angle = random.uniform(0.0, std::f64::consts::TAU);
             for direction in [
                 Vector2::new(angle.cos(), angle.sin()),
@@ -416,8 +364,8 @@ mod tests {
                 Vector2::x(),
             ] {
                 assert_eq!(
-                    cast_distance_pruned(p, &direction, 0.2, q),
-                    cast_distance_plainly(p, &direction, 0.2, q)
+                    cast_distance_with(p, &direction, 0.2, q, true),
+                    cast_distance_with(p, &direction, 0.2, q, false)
                 );
             }
         }

@@ -44,7 +44,7 @@ fn prism(id: u32, outline: ConvexPolygon, at: (f64, f64, f64), yaw: f64, height:
 /// base is above where it was put, metres.
 fn ride(shift: f64) -> (f64, f64, f64) {
     let settings = SimSettings::default();
-    let sim = Sim::new(settings.clone(), 1).unwrap();
+    let sim = Sim::new(settings.clone(), 1).expect("the default simulator settings are valid");
     let cube = square(0.0175);
     let row = Row {
         outlines: vec![
@@ -56,7 +56,8 @@ fn ride(shift: f64) -> (f64, f64, f64) {
     };
     let rider_outline = square(0.01);
     let stack = StackSettings::default();
-    let placed = place_rider(&row, &rider_outline, 0.02, settings.friction_object, &stack).unwrap();
+    let placed = place_rider(&row, &rider_outline, 0.02, settings.friction_object, &stack)
+        .expect("a 20 mm cube has a placement on a row of two 35 mm cubes");
     let mut prisms = vec![
         prism(0, cube.clone(), (0.0, 0.0, 0.0), 0.0, 0.035),
         prism(1, cube, (0.035, 0.0, 0.0), 0.0, 0.035),
