@@ -1192,6 +1192,43 @@ fn riders_ride_on_rows_and_save_trips() {
     );
 }
 
+/// Riders go only on rows whose members' centroids lie within the plates' length of their centre
+/// line, inset by the support margin (`formulations/stacking.md`, "Rows held off their centre"):
+/// checked on the table the riders were chosen on, the last look's after the pushes that follow it.
+#[test]
+fn riders_go_only_on_rows_held_near_the_plates_centre_line() {
+    use pushmog::grasp::centre_line_offset;
+    use pushmog::push::predict;
+    let settings = crate::support::with_riders();
+    let margin = settings.riders.checks.support_margin;
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let mut placed = 0;
+    for seed in 1..=3 {
+        let table = scene(seed);
+        let within = 0.5 * table.gripper().plate_length - margin;
+        let plan = policy.run(&table, &mut policy.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        for trip in plan.trips.iter().filter(|t| !t.plan.riders.is_empty()) {
+            let (seen, start) = trip.last_plan_scene();
+            let seen = Scene::new(seen.to_spec()).unwrap();
+            let predicted = predict(&seen, &trip.plan.pushes[start..]).unwrap();
+            let grasp = &trip.plan.grasp;
+            let members: Vec<usize> = grasp
+                .objects
+                .iter()
+                .map(|&id| predicted.index_of(id).unwrap())
+                .collect();
+            let offset = centre_line_offset(&predicted, &grasp.jaws, &members);
+            assert!(
+                offset <= within,
+                "seed {seed}: {offset} m off the centre line"
+            );
+            placed += trip.plan.riders.len();
+        }
+    }
+    assert!(placed > 0);
+}
+
 /// Riders priced in robot time (`formulations/stacking.md`, "Riders priced"): under the
 /// expected-time objective each rider placed saves, by the time model, more than its place action
 /// adds to its trip; a rider that never rides (`carried = 0`) is never placed; a far bin, where a

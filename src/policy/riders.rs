@@ -2,7 +2,10 @@
 //! clustering leaves to be taken by themselves are offered, nearest first, to the row the trip's
 //! grasp takes. One rides when the quasi-static checks place it ([`crate::stack::place_rider`]), the
 //! plates still carry the row with it, nothing beside the row stands above the row's top under it,
-//! and the single-object planner has a grasp to pick it with. One rider per row.
+//! and the single-object planner has a grasp to pick it with. One rider per row, and none on a row
+//! with a member's centroid farther from the plates' centre line than half the plate length less
+//! the support margin: in the simulator such rows are dropped far more often
+//! (`formulations/stacking.md`, "Rows held off their centre").
 //!
 //! Under the expected-time objective ([`super::TripObjective::ExpectedTime`]) a rider is also
 //! priced: it is placed only when `q_r·(T_trip + T_obs) > ΔT_place`, with `q_r` the calibrated
@@ -17,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use super::{Policy, TripPlan};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;
-use crate::grasp::{GraspRequest, JawPose};
+use crate::grasp::{GraspRequest, JawPose, centre_line_offset};
 use crate::plan::Rider;
 use crate::scene::{ObjectId, Pose, Scene};
 use crate::stack::{Row, StackSettings, place_rider, plates_carry};
@@ -118,6 +121,13 @@ impl Policy {
             .filter_map(|&id| predicted.index_of(id))
             .collect();
         let jaws = &trip.grasp.jaws;
+        // A member gripped with its centroid off the plates' centre line turns about the closing
+        // axis as the row is lifted, and tilts what rests on it: riders only on rows whose members'
+        // centroids lie within the plates' length, inset by the support margin.
+        let within = 0.5 * predicted.gripper().plate_length - settings.checks.support_margin;
+        if centre_line_offset(predicted, jaws, &members) > within {
+            return Ok(Vec::new());
+        }
         let row = row_of(predicted, &members, jaws);
         let model = self.problem.grasp_model();
         let row_masses: Vec<f64> = members
