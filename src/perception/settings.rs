@@ -45,7 +45,8 @@ pub struct PerceptionSettings {
     /// Fit a line to each side of a blob and put back the corner tips that the 3×3 median cut,
     /// instead of taking the hull of its pixels (`formulations/perception.md`, "Sides fitted, tips
     /// put back"). Off by default: it makes outlines more accurate on average but not in the worst
-    /// case, its yaw errors are larger, and it moves near-limit plans. Left out of written settings when off.
+    /// case, its yaw errors are larger, and it moves near-limit plans. Left out of written settings
+    /// when off.
     #[serde(skip_serializing_if = "is_false")]
     pub fit_sides: bool,
 }

@@ -20,6 +20,8 @@ pub struct StackSettings {
     pub height_tolerance: f64,
     /// Least distance from the rider's centroid to the edge of what it rests on, covering where it
     /// is seen and where it is put, metres. Default 5 mm. The tipping bound is applied when larger.
+    /// The rider choice also keeps riders off rows with a member's centroid farther than half the
+    /// plate length less this margin from the plates' centre line (`policy::riders`).
     pub support_margin: f64,
     /// Least distance, along the closing axis, from the rider's footprint to the row's outer faces
     /// (where the pads close), metres. Default 5 mm.
