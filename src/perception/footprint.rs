@@ -21,7 +21,7 @@
 use nalgebra::{Point2, Vector2};
 
 use super::camera::Camera;
-use super::sides::{agrees, area_matching_offset, boundary, fitted_outline};
+use super::sides::{agrees, area_matching_offset, column_ends, fitted_outline, row_ends};
 use super::table::TablePlane;
 use crate::geometry::{ConvexPolygon, clip, convex_hull, loop_area, tidy_polygon};
 
@@ -39,8 +39,8 @@ pub struct ImageHull {
 /// with `fit_sides`, the outline of its fitted sides where it agrees with that (`sides.rs`).
 /// `None` when the pixels lie on one line.
 pub fn image_hull(pixels: &[usize], width: usize, fit_sides: bool) -> Option<ImageHull> {
-    let boundary = boundary(pixels, width);
-    let hull = convex_hull(&boundary);
+    let ends = row_ends(pixels, width);
+    let hull = convex_hull(&ends);
     if hull.len() < 3 {
         return None;
     }
@@ -50,6 +50,8 @@ pub fn image_hull(pixels: &[usize], width: usize, fit_sides: bool) -> Option<Ima
     // Sides fitted to the blob's boundary pixels, the median's cut tips put back; the hull itself
     // where the two disagree (`sides.rs`).
     let corners = if fit_sides {
+        let mut boundary = ends;
+        boundary.extend(column_ends(pixels, width));
         fitted_outline(&hull, &boundary, count)
             .filter(|fitted| agrees(fitted, &offset_hull))
             .unwrap_or(offset_hull)

@@ -51,26 +51,42 @@ struct Line {
     d: f64,
 }
 
-/// The outermost pixel centre of every row and every column of `pixels` (indices into rows of
-/// `width`).
-pub fn boundary(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
-    let mut rows: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
-    let mut columns: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
+/// The outermost pixel centre at each end of every row of `pixels` (indices into rows of `width`):
+/// enough for the hull of all their centres.
+pub fn row_ends(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
+    extremes(
+        pixels,
+        |i| (i / width, i % width),
+        |v, u| Point2::new(u as f64, v as f64),
+    )
+}
+
+/// The outermost pixel centre at each end of every column of `pixels`: with [`row_ends`], the
+/// boundary pixels the sides are fitted to.
+pub fn column_ends(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
+    extremes(
+        pixels,
+        |i| (i % width, i / width),
+        |u, v| Point2::new(u as f64, v as f64),
+    )
+}
+
+/// The two extreme pixels of each line of pixels: `split` gives a pixel's line and its place along
+/// it, `point` the pixel centre from the two.
+fn extremes(
+    pixels: &[usize],
+    split: impl Fn(usize) -> (usize, usize),
+    point: impl Fn(usize, usize) -> Point2<f64>,
+) -> Vec<Point2<f64>> {
+    let mut lines: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
     for &i in pixels {
-        let (u, v) = (i % width, i / width);
-        let r = rows.entry(v).or_insert((u, u));
-        *r = (r.0.min(u), r.1.max(u));
-        let c = columns.entry(u).or_insert((v, v));
-        *c = (c.0.min(v), c.1.max(v));
+        let (line, at) = split(i);
+        let e = lines.entry(line).or_insert((at, at));
+        *e = (e.0.min(at), e.1.max(at));
     }
-    let point = |u: usize, v: usize| Point2::new(u as f64, v as f64);
-    rows.iter()
-        .flat_map(|(&v, &(low, high))| [point(low, v), point(high, v)])
-        .chain(
-            columns
-                .iter()
-                .flat_map(|(&u, &(low, high))| [point(u, low), point(u, high)]),
-        )
+    lines
+        .iter()
+        .flat_map(|(&line, &(low, high))| [point(line, low), point(line, high)])
         .collect()
 }
 
@@ -358,6 +374,12 @@ mod tests {
     }
 
     /// The centres of `pixels`.
+    fn boundary(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
+        let mut points = row_ends(pixels, width);
+        points.extend(column_ends(pixels, width));
+        points
+    }
+
     fn centres(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
         pixels
             .iter()
