@@ -1213,11 +1213,7 @@ fn riders_go_only_on_rows_held_near_the_plates_centre_line() {
             let seen = Scene::new(seen.to_spec()).unwrap();
             let predicted = predict(&seen, &trip.plan.pushes[start..]).unwrap();
             let grasp = &trip.plan.grasp;
-            let members: Vec<usize> = grasp
-                .objects
-                .iter()
-                .map(|&id| predicted.index_of(id).unwrap())
-                .collect();
+            let members = predicted.indices_of(&grasp.objects).unwrap();
             let offset = centre_line_offset(&predicted, &grasp.jaws, &members);
             assert!(
                 offset <= within,
