@@ -499,7 +499,7 @@ fn the_push_mog_time_settings_file_plans_as_the_experiment_does() {
     let label = |p: &pushmog::experiment::PolicyConfig| p.label.as_deref() == Some("push-mog-time");
     let index = config.policies.iter().position(label).unwrap();
     let settings: pushmog::policy::PolicySettings = serde_json::from_value(from_file).unwrap();
-    assert_eq!(config.policy_settings(index, None), settings);
+    assert_eq!(config.policy_settings(index, None, None).unwrap(), settings);
     let dir = scratch("push-mog-time");
     let (scene, plan) = (dir.join("scene.json"), dir.join("plan.json"));
     pushmog(&[

@@ -527,3 +527,112 @@ settings = { milp = { time_limit = 5.0 }, socp = { time_limit = 0.5 } }
         assert!(!planners.single_object.proves_optimality);
     }
 }
+
+/// Sweep variants lay their settings over each policy's, key by key; every run carries its
+/// variant's label, the tables gain a variant column, and a slower arm takes longer for the same
+/// plans (the ideal executor and sog make the same trips whatever the time model).
+#[test]
+fn sweep_variants_change_the_settings_they_name_and_nothing_else() {
+    let dir = scratch("experiment-variants");
+    let mut text = toml::to_string(&config("ideal")).unwrap();
+    text.push_str(
+        r#"
+[[sweep.variants]]
+label = "as set"
+
+[[sweep.variants]]
+label = "slow arm"
+policies = { time_model = { travel_acceleration = 0.5 } }
+"#,
+    );
+    let config = ExperimentConfig::from_toml(&text, "variants").unwrap();
+    let slow = config.policy_settings(1, None, Some(1)).unwrap();
+    let as_set = config.policy_settings(1, None, Some(0)).unwrap();
+    assert_eq!(slow.time_model.travel_acceleration, 0.5);
+    assert_eq!(
+        pushmog::time_model::TimeModel {
+            travel_acceleration: as_set.time_model.travel_acceleration,
+            ..slow.time_model.clone()
+        },
+        as_set.time_model
+    );
+    assert_eq!(
+        pushmog::policy::PolicySettings {
+            time_model: as_set.time_model.clone(),
+            ..slow.clone()
+        },
+        as_set
+    );
+    let path = dir.join("variants.jsonl");
+    run_experiment(&config, Path::new("."), &options(&path, (0, 1), None)).unwrap();
+    let log = read_log(&path).unwrap();
+    assert_eq!(log.rows.len(), 12);
+    for pair in log.rows.chunks(4) {
+        // Per scene: sog and push-mog as set, then both with the slow arm.
+        let labels: Vec<_> = pair.iter().map(|r| r.variant.as_deref().unwrap()).collect();
+        assert_eq!(labels, ["as set", "as set", "slow arm", "slow arm"]);
+        let (fast, slow) = (&pair[0], &pair[2]);
+        assert_eq!((fast.policy.as_str(), slow.policy.as_str()), ("sog", "sog"));
+        assert_eq!(fast.trips, slow.trips);
+        assert!(
+            slow.robot_seconds > fast.robot_seconds,
+            "{fast:?}\n{slow:?}"
+        );
+    }
+    let markdown = results_markdown(&log);
+    assert!(
+        markdown.contains("| variant") && markdown.contains("slow arm"),
+        "{markdown}"
+    );
+    let csv = results_csv(&log);
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    let headers = reader.headers().unwrap().clone();
+    let column = headers.iter().position(|h| h == "variant").unwrap();
+    let variants: Vec<String> = reader
+        .records()
+        .map(|r| r.unwrap()[column].to_string())
+        .collect();
+    assert_eq!(
+        variants,
+        ["as set", "as set", "slow arm", "slow arm"],
+        "{csv}"
+    );
+    // Without variants the CSV has no such column, as before variants existed.
+    let mut plain = self::config("ideal");
+    plain.scenes.count = 1;
+    let path = dir.join("plain.jsonl");
+    run_experiment(&plain, Path::new("."), &options(&path, (0, 1), None)).unwrap();
+    let csv = results_csv(&read_log(&path).unwrap());
+    assert!(
+        csv.starts_with("policy,objects,bin_distance,friction,runs,"),
+        "{csv}"
+    );
+}
+
+/// A variant that names a setting nobody has, repeats a label, or changes the simulator of an
+/// ideal executor is refused, naming the variant.
+#[test]
+fn bad_sweep_variants_are_refused_naming_the_variant() {
+    let base = toml::to_string(&config("ideal")).unwrap();
+    for (variant, expected) in [
+        (
+            "[[sweep.variants]]\nlabel = \"typo\"\npolicies = { time_model = { travel_aceleration = 1.0 } }\n",
+            "typo",
+        ),
+        (
+            "[[sweep.variants]]\nlabel = \"a\"\n[[sweep.variants]]\nlabel = \"a\"\n",
+            "two variants",
+        ),
+        (
+            "[[sweep.variants]]\nlabel = \"sticky\"\nsim = { friction_object = 0.6 }\n",
+            "sticky",
+        ),
+        ("[[sweep.variants]]\nlabel = \" \"\n", "needs a label"),
+    ] {
+        let text = format!("{base}\n{variant}");
+        let error = ExperimentConfig::from_toml(&text, "bad")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(expected), "{variant}: {error}");
+    }
+}

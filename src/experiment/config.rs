@@ -23,6 +23,11 @@
 //! bin_distance = [0.3]              # metres; each value is a variant of every run
 //! friction = [0.4, 0.8]             # the simulator's pad and object friction; a variant each
 //!
+//! [[sweep.variants]]                # named variants of every run: simulator settings and settings
+//! label = "a = 2 m/s²"              # of every policy changed together (deep-merged over the
+//! sim = { carry_acceleration = 2.0 }        # executor's and each policy's own)
+//! policies = { riders = { checks = { acceleration = 2.0 } } }
+//!
 //! [[policies]]
 //! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
 //! settings = { }                    # policy settings (any subset)
@@ -30,8 +35,8 @@
 //! pusher = "socp"                   # optional: replace its push planner (none, toward-central, socp)
 //! ```
 //!
-//! Runs are numbered in a fixed order — object count, scene, bin distance, friction, policy,
-//! repetition — so a
+//! Runs are numbered in a fixed order — object count, scene, bin distance, friction, variant,
+//! policy, repetition — so a
 //! configuration always expands to the same list, which is what makes logs resumable and shardable.
 
 use std::path::{Path, PathBuf};
@@ -151,6 +156,66 @@ pub struct SweepConfig {
         deserialize_with = "crate::json::non_empty_list"
     )]
     pub friction: Vec<f64>,
+    /// Named variants of every run, each changing simulator and policy settings together; empty
+    /// keeps them as they are.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub variants: Vec<Variant>,
+}
+
+/// One variant of every run: settings laid over the executor's simulator settings and over every
+/// policy's settings (tables are merged key by key, so `{ riders = { checks = { acceleration =
+/// 2.0 } } }` changes that one value). What a variant changes in the simulator is the world; what
+/// it changes in the policies is what the planners believe and how the time model charges.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Variant {
+    /// The variant's name in tables and logs.
+    pub label: String,
+    /// Simulator settings changed (any subset of the executor's `settings`).
+    #[serde(default)]
+    pub sim: serde_json::Map<String, serde_json::Value>,
+    /// Policy settings changed in every policy (any subset).
+    #[serde(default)]
+    pub policies: serde_json::Map<String, serde_json::Value>,
+}
+
+/// `over` laid onto `base`: tables merged key by key, anything else replaced.
+fn lay_over(base: &mut serde_json::Value, over: &serde_json::Map<String, serde_json::Value>) {
+    let serde_json::Value::Object(base) = base else {
+        *base = serde_json::Value::Object(over.clone());
+        return;
+    };
+    for (key, value) in over {
+        match (base.get_mut(key), value) {
+            (Some(slot @ serde_json::Value::Object(_)), serde_json::Value::Object(inner)) => {
+                lay_over(slot, inner);
+            }
+            _ => {
+                base.insert(key.clone(), value.clone());
+            }
+        }
+    }
+}
+
+/// `settings` with `over` laid onto them and read back; errors name `field` of the variant `label`.
+fn with_overrides<T>(
+    settings: &T,
+    over: &serde_json::Map<String, serde_json::Value>,
+    label: &str,
+    field: &str,
+) -> Result<T>
+where
+    T: Clone + Serialize + serde::de::DeserializeOwned,
+{
+    if over.is_empty() {
+        return Ok(settings.clone());
+    }
+    let refuse = |e: serde_json::Error| {
+        Error::field(format!("sweep variant `{label}`"), field, e.to_string())
+    };
+    let mut value = serde_json::to_value(settings).map_err(refuse)?;
+    lay_over(&mut value, over);
+    serde_json::from_value(value).map_err(refuse)
 }
 
 /// One policy of the comparison.
@@ -212,6 +277,8 @@ pub struct RunSpec {
     pub bin_distance: Option<f64>,
     /// Pad and object friction in the simulator, when swept.
     pub friction: Option<f64>,
+    /// Index into `sweep.variants`, when it has any.
+    pub variant: Option<usize>,
     /// Index into `policies`.
     pub policy: usize,
     /// Repetition.
@@ -312,6 +379,7 @@ impl ExperimentConfig {
             self.scenes.count,
             self.sweep.bin_distance.len().max(1),
             self.sweep.friction.len().max(1),
+            self.sweep.variants.len().max(1),
             self.policies.len(),
             self.repetitions,
         ]
@@ -366,6 +434,44 @@ impl ExperimentConfig {
                 "sweeps the simulator's friction: needs `executor.kind = \"sim\"`",
             ));
         }
+        self.validate_variants(component)
+    }
+
+    /// Variants with labels of their own whose settings fit the simulator and every policy.
+    fn validate_variants(&self, component: &str) -> Result<()> {
+        for (k, variant) in self.sweep.variants.iter().enumerate() {
+            if variant.label.trim().is_empty() {
+                return Err(Error::field(
+                    component.to_string(),
+                    "sweep.variants.label",
+                    format!("variant {} needs a label", k + 1),
+                ));
+            }
+            if self.sweep.variants[..k]
+                .iter()
+                .any(|v| v.label == variant.label)
+            {
+                return Err(Error::field(
+                    component.to_string(),
+                    "sweep.variants.label",
+                    format!("two variants are labelled `{}`", variant.label),
+                ));
+            }
+            if !variant.sim.is_empty() && self.executor.kind != ExecutorKind::Sim {
+                return Err(Error::field(
+                    component.to_string(),
+                    "sweep.variants.sim",
+                    format!(
+                        "variant `{}` changes the simulator's settings: needs `executor.kind = \"sim\"`",
+                        variant.label
+                    ),
+                ));
+            }
+            self.sim_settings(None, Some(k))?.validate()?;
+            for policy in 0..self.policies.len() {
+                self.policy_settings(policy, None, Some(k))?.validate()?;
+            }
+        }
         Ok(())
     }
 
@@ -405,27 +511,35 @@ impl ExperimentConfig {
             values(&self.sweep.bin_distance),
             values(&self.sweep.friction),
         );
+        let variants: Vec<Option<usize>> = if self.sweep.variants.is_empty() {
+            vec![None]
+        } else {
+            (0..self.sweep.variants.len()).map(Some).collect()
+        };
         let mut runs = Vec::new();
         for &objects in &self.scenes.objects {
             for scene in 0..self.scenes.count as u64 {
                 for &bin_distance in &bins {
                     for &friction in &frictions {
-                        for policy in 0..self.policies.len() {
-                            for repetition in 0..self.repetitions {
-                                let id = runs.len();
-                                runs.push(RunSpec {
-                                    id,
-                                    objects,
-                                    scene_seed: self.scenes.first_seed + scene,
-                                    bin_distance,
-                                    friction,
-                                    policy,
-                                    repetition,
-                                    run_seed: self
-                                        .seed
-                                        .wrapping_mul(1_000_003)
-                                        .wrapping_add(id as u64),
-                                });
+                        for &variant in &variants {
+                            for policy in 0..self.policies.len() {
+                                for repetition in 0..self.repetitions {
+                                    let id = runs.len();
+                                    runs.push(RunSpec {
+                                        id,
+                                        objects,
+                                        scene_seed: self.scenes.first_seed + scene,
+                                        bin_distance,
+                                        friction,
+                                        variant,
+                                        policy,
+                                        repetition,
+                                        run_seed: self
+                                            .seed
+                                            .wrapping_mul(1_000_003)
+                                            .wrapping_add(id as u64),
+                                    });
+                                }
                             }
                         }
                     }
@@ -465,26 +579,47 @@ impl ExperimentConfig {
         Ok(set)
     }
 
-    /// The settings of `policy` for a run with this bin distance.
-    pub fn policy_settings(&self, policy: usize, bin_distance: Option<f64>) -> PolicySettings {
+    /// The settings of `policy` for a run with this bin distance and variant.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when the variant's settings do not fit the policy's.
+    pub fn policy_settings(
+        &self,
+        policy: usize,
+        bin_distance: Option<f64>,
+        variant: Option<usize>,
+    ) -> Result<PolicySettings> {
         let mut settings = self.policies[policy].settings.clone();
+        if let Some(v) = variant.map(|v| &self.sweep.variants[v]) {
+            settings = with_overrides(&settings, &v.policies, &v.label, "policies")?;
+        }
         if let Some(distance) = bin_distance {
             settings.time_model.bin_distance = distance;
         }
-        settings
+        Ok(settings)
     }
 
-    /// The simulator's settings (noise removed when `noise` is off; friction as swept).
-    pub fn sim_settings(&self, friction: Option<f64>) -> SimSettings {
+    /// The simulator's settings (noise removed when `noise` is off; friction and variant as swept).
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`] when the variant's settings do not fit the simulator's.
+    pub fn sim_settings(
+        &self,
+        friction: Option<f64>,
+        variant: Option<usize>,
+    ) -> Result<SimSettings> {
         let mut settings = self.executor.settings.clone();
+        if let Some(v) = variant.map(|v| &self.sweep.variants[v]) {
+            settings = with_overrides(&settings, &v.sim, &v.label, "sim")?;
+        }
         if let Some(friction) = friction {
             settings.friction_finger = friction;
             settings.friction_object = friction;
         }
-        if self.executor.noise {
+        Ok(if self.executor.noise {
             settings
         } else {
             SimSettings::noiseless_from(&settings)
-        }
+        })
     }
 }

@@ -45,7 +45,7 @@ fn abilities(config: &ExperimentConfig) -> Result<Vec<LoggedAbilities>> {
         .iter()
         .enumerate()
         .map(|(k, entry)| {
-            let policy = entry.policy(config.policy_settings(k, None))?;
+            let policy = entry.policy(config.policy_settings(k, None, None)?)?;
             Ok(LoggedAbilities {
                 policy: entry.label(),
                 planners: policy.abilities(),
@@ -66,14 +66,14 @@ pub fn run_one(
     let started = Instant::now();
     let cpu_started = cpu_time::ThreadTime::try_now().ok();
     let scene = generate_scene(&config.generator(spec.objects), set, spec.scene_seed)?;
-    let settings = config.policy_settings(spec.policy, spec.bin_distance);
+    let settings = config.policy_settings(spec.policy, spec.bin_distance, spec.variant)?;
     let bin_distance = settings.time_model.bin_distance;
     let policy = config.policies[spec.policy].policy(settings)?;
     // The simulator's seed follows the run seed as in `pushmog run --seed` and Python's
     // `Planner.run`, so any logged run can be replayed there with its `run_seed`.
     let mut executor = config.executor.kind.build(
         policy.problem(),
-        config.sim_settings(spec.friction),
+        config.sim_settings(spec.friction, spec.variant)?,
         spec.run_seed,
     )?;
     let (plan, timing) = policy.run_timed(&scene, executor.as_mut(), spec.run_seed)?;
@@ -90,6 +90,7 @@ pub fn run_one(
         policy: config.policies[spec.policy].label(),
         bin_distance,
         friction: spec.friction,
+        variant: spec.variant.map(|v| config.sweep.variants[v].label.clone()),
         repetition: spec.repetition,
         run_seed: spec.run_seed,
         executor: executor.name().to_string(),

@@ -94,6 +94,9 @@ pub struct LogRow {
     /// Pad and object friction of the simulator, when the configuration sweeps it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
+    /// The label of the configuration's sweep variant, when it has variants.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
     /// Repetition.
     pub repetition: usize,
     /// Seed of the run's choices and noise.

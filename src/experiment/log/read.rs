@@ -174,7 +174,11 @@ fn row_agrees(
         && spec
             .bin_distance
             .is_none_or(|d| d.to_bits() == row.bin_distance.to_bits())
-        && row.friction.map(f64::to_bits) == spec.friction.map(f64::to_bits);
+        && row.friction.map(f64::to_bits) == spec.friction.map(f64::to_bits)
+        && row.variant.as_deref()
+            == spec
+                .variant
+                .map(|v| config.sweep.variants[v].label.as_str());
     if !same {
         return Err(format!(
             "run {} is not the configuration's run {} ({} objects, scene seed {}, policy {label}, \

@@ -11,6 +11,9 @@ struct ResultsLine {
     objects: usize,
     bin_distance: String,
     friction: String,
+    /// Only in logs of configurations with sweep variants, so other logs' CSV stays as it was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    variant: Option<String>,
     runs: usize,
     opt_mean: String,
     opt_std: String,
@@ -36,6 +39,8 @@ struct TimingLine {
     objects: usize,
     bin_distance: String,
     friction: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    variant: Option<String>,
     planning_median: String,
     planning_p95: String,
     clustering_median: String,
@@ -65,6 +70,7 @@ pub fn results_csv(log: &Log) -> String {
             objects: g.objects,
             bin_distance: g.bin_distance.to_string(),
             friction: g.friction.map_or(String::new(), |f| f.to_string()),
+            variant: g.variant.clone(),
             runs: g.runs,
             opt_mean: format!("{:.6}", g.opt.0),
             opt_std: format!("{:.6}", g.opt.1),
@@ -96,6 +102,7 @@ pub fn timing_csv(log: &Log) -> String {
         objects: g.objects,
         bin_distance: g.bin_distance.to_string(),
         friction: g.friction.map_or(String::new(), |f| f.to_string()),
+        variant: g.variant.clone(),
         planning_median: format!("{:.9}", g.planning_median),
         planning_p95: format!("{:.9}", g.planning_p95),
         clustering_median: format!("{:.9}", g.clustering_median),

@@ -33,6 +33,8 @@ pub struct GroupSummary {
     pub bin_distance: f64,
     /// The simulator's pad and object friction, when swept.
     pub friction: Option<f64>,
+    /// The sweep variant's label, when the configuration has variants.
+    pub variant: Option<String>,
     /// Runs in the group.
     pub runs: usize,
     /// Objects per trip: mean and sample standard deviation over runs.
@@ -60,7 +62,7 @@ pub struct GroupSummary {
     /// Half-width of the 95 % interval of the mean picks per hour (Student's t).
     pub picks_per_hour_95: f64,
     /// Picks per hour as a ratio to sog's on the same scenes (same scene seed and repetition, the
-    /// same object count, bin distance and friction): the mean of the per-scene ratios and the
+    /// same object count, bin distance, friction and variant): the mean of the per-scene ratios and the
     /// half-width of its 95 % interval. `None` for sog itself, or when the log has no sog run of
     /// those scenes.
     pub versus_sog: Option<(f64, f64)>,
@@ -79,7 +81,20 @@ fn friction_key(friction: Option<f64>) -> u64 {
     friction.map_or(u64::MAX, f64::to_bits)
 }
 
-/// Groups rows by object count, bin distance, friction and policy, in the configuration's order.
+/// A row's sweep variant as its position in the configuration (`usize::MAX` when it has none, one
+/// past the last for a label the configuration does not name).
+fn variant_key(log: &Log, row: &LogRow) -> usize {
+    let variants = &log.header.config.sweep.variants;
+    row.variant.as_ref().map_or(usize::MAX, |label| {
+        variants
+            .iter()
+            .position(|v| v.label == *label)
+            .unwrap_or(variants.len())
+    })
+}
+
+/// Groups rows by object count, bin distance, friction, variant and policy, in the
+/// configuration's order.
 pub fn summarise(log: &Log) -> Vec<GroupSummary> {
     let order: Vec<String> = log
         .header
@@ -88,7 +103,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
         .iter()
         .map(|p| p.label())
         .collect();
-    let mut keys: Vec<(usize, u64, u64, usize)> = Vec::new();
+    let mut keys: Vec<(usize, u64, u64, usize, usize)> = Vec::new();
     for row in &log.rows {
         let policy = order
             .iter()
@@ -98,6 +113,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
             row.objects,
             row.bin_distance.to_bits(),
             friction_key(row.friction),
+            variant_key(log, row),
             policy,
         );
         if !keys.contains(&key) {
@@ -109,9 +125,10 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
             .then(f64::from_bits(a.1).total_cmp(&f64::from_bits(b.1)))
             .then(f64::from_bits(a.2).total_cmp(&f64::from_bits(b.2)))
             .then(a.3.cmp(&b.3))
+            .then(a.4.cmp(&b.4))
     });
     keys.into_iter()
-        .map(|(objects, bin, friction, policy)| {
+        .map(|(objects, bin, friction, variant, policy)| {
             let label = order.get(policy).cloned().unwrap_or_default();
             let rows: Vec<&LogRow> = log
                 .rows
@@ -120,6 +137,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                     r.objects == objects
                         && r.bin_distance.to_bits() == bin
                         && friction_key(r.friction) == friction
+                        && variant_key(log, r) == variant
                         && r.policy == label
                 })
                 .collect();
@@ -137,6 +155,7 @@ pub fn summarise(log: &Log) -> Vec<GroupSummary> {
                 objects,
                 bin_distance: f64::from_bits(bin),
                 friction: (friction != u64::MAX).then(|| f64::from_bits(friction)),
+                variant: rows.first().and_then(|r| r.variant.clone()),
                 runs: rows.len(),
                 opt: mean_std(&opt),
                 trips: mean(rows.iter().map(|r| r.trips as f64)),
@@ -169,7 +188,7 @@ fn interval_95(values: &[f64]) -> f64 {
 }
 
 /// The mean and 95 % half-width of `rows`' picks per hour divided by sog's on the same scene
-/// (scene seed, repetition, object count, bin distance and friction); `None` when no row has a sog
+/// (scene seed, repetition, object count, bin distance, friction and variant); `None` when no row has a sog
 /// partner in `log`.
 fn paired_with_sog(log: &Log, rows: &[&LogRow]) -> Option<(f64, f64)> {
     let ratios: Vec<f64> = rows
@@ -182,6 +201,7 @@ fn paired_with_sog(log: &Log, rows: &[&LogRow]) -> Option<(f64, f64)> {
                     && r.objects == row.objects
                     && r.bin_distance.to_bits() == row.bin_distance.to_bits()
                     && friction_key(r.friction) == friction_key(row.friction)
+                    && r.variant == row.variant
             })?;
             (sog.picks_per_hour > 0.0).then(|| row.picks_per_hour / sog.picks_per_hour)
         })
@@ -208,6 +228,7 @@ struct Varies {
     objects: bool,
     bin: bool,
     friction: bool,
+    variant: bool,
 }
 
 fn varies(groups: &[GroupSummary]) -> Varies {
@@ -220,11 +241,12 @@ fn varies(groups: &[GroupSummary]) -> Varies {
             .iter()
             .any(|g| Some(g.bin_distance.to_bits()) != first.map(|f| f.bin_distance.to_bits())),
         friction: groups.iter().any(|g| g.friction.is_some()),
+        variant: groups.iter().any(|g| g.variant.is_some()),
     }
 }
 
-/// The columns after the policy that tell groups apart: the object count, the bin distance and
-/// the friction, each only when it varies in the log.
+/// The columns after the policy that tell groups apart: the object count, the bin distance, the
+/// friction and the sweep variant, each only when it varies in the log.
 fn key_columns(by: Varies) -> Vec<Column> {
     let mut columns = Vec::new();
     if by.objects {
@@ -235,6 +257,13 @@ fn key_columns(by: Varies) -> Vec<Column> {
     }
     if by.friction {
         columns.push(Column::markdown("friction", 2).latex("$\\mu$", 'r', 2));
+    }
+    if by.variant {
+        columns.push(
+            Column::markdown("variant", 0)
+                .left()
+                .latex("Variant", 'l', 0),
+        );
     }
     columns
 }
@@ -250,6 +279,9 @@ fn key_cells(group: &GroupSummary, by: Varies) -> Vec<Cell> {
     }
     if by.friction {
         cells.push(group.friction.map_or(Cell::Missing, Cell::Number));
+    }
+    if by.variant {
+        cells.push(group.variant.clone().map_or(Cell::Missing, Cell::Text));
     }
     cells
 }
@@ -339,14 +371,17 @@ fn executor_name(log: &Log) -> &'static str {
 /// The wall-clock table in Markdown (planning and clustering times; machine-dependent).
 pub fn timing_markdown(log: &Log) -> String {
     let groups = summarise(log);
-    let by_friction = varies(&groups).friction;
+    let by = varies(&groups);
     let mut columns = vec![
         Column::markdown("policy", 0).left(),
         Column::markdown("objects", 0),
         Column::markdown("bin distance (m)", 2),
     ];
-    if by_friction {
+    if by.friction {
         columns.push(Column::markdown("friction", 2));
+    }
+    if by.variant {
+        columns.push(Column::markdown("variant", 0).left());
     }
     columns.extend([
         Column::markdown("planning median (ms)", 3),
@@ -362,8 +397,11 @@ pub fn timing_markdown(log: &Log) -> String {
                 Cell::Number(g.objects as f64),
                 Cell::Number(g.bin_distance),
             ];
-            if by_friction {
+            if by.friction {
                 cells.push(g.friction.map_or(Cell::Missing, Cell::Number));
+            }
+            if by.variant {
+                cells.push(g.variant.clone().map_or(Cell::Missing, Cell::Text));
             }
             cells.extend([
                 Cell::Number(g.planning_median * 1e3),
