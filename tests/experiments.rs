@@ -597,6 +597,23 @@ policies = { time_model = { travel_acceleration = 0.5 } }
         ["as set", "as set", "slow arm", "slow arm"],
         "{csv}"
     );
+    // The figure of objects per trip by variant takes the per-policy figure's place.
+    let report = write_report(&log, &dir.join("tables"), &dir.join("figures")).unwrap();
+    let names: Vec<String> = report
+        .files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.contains(&"tiny-variants.svg".to_string()),
+        "{names:?}"
+    );
+    assert!(!names.contains(&"tiny-opt.svg".to_string()), "{names:?}");
+    let svg = std::fs::read_to_string(dir.join("figures").join("tiny-variants.svg")).unwrap();
+    assert!(
+        svg.contains("slow arm") && svg.contains("push-mog"),
+        "{svg}"
+    );
     // Without variants the CSV has no such column, as before variants existed.
     let mut plain = self::config("ideal");
     plain.scenes.count = 1;

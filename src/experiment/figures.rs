@@ -359,3 +359,115 @@ pub fn push_distance_svg(log: &Log) -> Result<String> {
     }
     Ok(svg)
 }
+
+/// Objects per trip per sweep variant (one row each, top to bottom in the configuration's order),
+/// each policy a marker with the 95 % interval of its mean (Student's t, [`t_95`]).
+///
+/// # Errors
+/// A drawing failure, or a log without rows of variants.
+pub fn variants_svg(log: &Log) -> Result<String> {
+    let groups: Vec<_> = summarise(log)
+        .into_iter()
+        .filter(|g| g.variant.is_some())
+        .collect();
+    let mut variants: Vec<String> = Vec::new();
+    let mut policies: Vec<String> = Vec::new();
+    for g in &groups {
+        let variant = g.variant.clone().unwrap_or_default();
+        if !variants.contains(&variant) {
+            variants.push(variant);
+        }
+        if !policies.contains(&g.policy) {
+            policies.push(g.policy.clone());
+        }
+    }
+    if groups.is_empty() {
+        return Err(Error::field(
+            "figure",
+            "log",
+            "the log has no variants to plot",
+        ));
+    }
+    let interval = |g: &super::tables::GroupSummary| {
+        if g.runs < 2 {
+            0.0
+        } else {
+            t_95(g.runs) * g.opt.1 / (g.runs as f64).sqrt()
+        }
+    };
+    let x_hi = groups
+        .iter()
+        .map(|g| g.opt.0 + interval(g))
+        .fold(1.0, f64::max)
+        * 1.08;
+    let rows = variants.len();
+    let height = 120 + 44 * rows as u32;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (SIZE.0, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        // Row k of the list is drawn at y = rows - 1 - k, so the first variant is on top.
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!(
+                    "Objects per trip by variant ({}, {} executor)",
+                    log.header.config.name,
+                    executor(log)
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(190)
+            .build_cartesian_2d(0.0f64..x_hi, -0.5f64..(rows as f64 - 0.5))
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .y_labels(rows.max(1))
+            .y_label_formatter(&|y| {
+                let k = y.round();
+                if (y - k).abs() < 1e-6 && k >= 0.0 && (k as usize) < rows {
+                    variants[rows - 1 - k as usize].clone()
+                } else {
+                    String::new()
+                }
+            })
+            .x_desc("objects per trip (mean, 95 % interval)")
+            .disable_y_mesh()
+            .draw()
+            .map_err(plot_error)?;
+        let spread = 0.6 / policies.len().max(1) as f64;
+        for (p, policy) in policies.iter().enumerate() {
+            let colour = COLOURS[p % COLOURS.len()];
+            let offset = 0.3 - spread * (p as f64 + 0.5);
+            let bars: Vec<_> = groups
+                .iter()
+                .filter(|g| &g.policy == policy)
+                .filter_map(|g| {
+                    let k = variants
+                        .iter()
+                        .position(|v| Some(v) == g.variant.as_ref())?;
+                    let y = (rows - 1 - k) as f64 + offset;
+                    let e = interval(g);
+                    Some(ErrorBar::new_horizontal(
+                        y,
+                        g.opt.0 - e,
+                        g.opt.0,
+                        g.opt.0 + e,
+                        colour.filled().stroke_width(2),
+                        8,
+                    ))
+                })
+                .collect();
+            chart
+                .draw_series(bars)
+                .map_err(plot_error)?
+                .label(policy.clone())
+                .legend(move |(px, py)| Circle::new((px + 8, py), 5, colour.filled()));
+        }
+        // Objects per trip lie near 1 or above, so the chart's left is mostly free.
+        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        root.present().map_err(plot_error)?;
+    }
+    Ok(svg)
+}

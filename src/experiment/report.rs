@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use super::break_even::{break_even_markdown, ratio_to_sog_svg};
 use super::figures::{
     friction_svg, opt_per_policy_svg, picks_per_hour_svg, planning_time_svg, push_distance_svg,
+    variants_svg,
 };
 use super::log::Log;
 use super::tables::{
@@ -22,7 +23,8 @@ pub struct ReportPaths {
 }
 
 /// Writes the tables of `log` to `tables` (as `<name>.md`, `.csv`, `.tex`, and `<name>-timing.*`)
-/// and its figures to `figures` (`<name>-opt.svg`; the bin-distance, friction or object-count plot
+/// and its figures to `figures` (`<name>-opt.svg`, or `<name>-variants.svg` when the configuration
+/// has sweep variants; the bin-distance, friction or object-count plot
 /// when the log sweeps those, and with a bin-distance sweep the ratio to sog with each policy's
 /// break-even distance, `<name>-ratio-to-sog.svg`, also stated under the Markdown table; objects per trip against push distance, `<name>-push-distance.svg`,
 /// when it sweeps nothing and two or more of its policies push).
@@ -57,10 +59,17 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
         timing_markdown(log),
     )?;
     put(tables.join(format!("{name}-timing.csv")), timing_csv(log))?;
-    put(
-        figures.join(format!("{name}-opt.svg")),
-        opt_per_policy_svg(log)?,
-    )?;
+    if config.sweep.variants.is_empty() {
+        put(
+            figures.join(format!("{name}-opt.svg")),
+            opt_per_policy_svg(log)?,
+        )?;
+    } else {
+        put(
+            figures.join(format!("{name}-variants.svg")),
+            variants_svg(log)?,
+        )?;
+    }
     if by_distance {
         put(
             figures.join(format!("{name}-picks-per-hour.svg")),
@@ -87,6 +96,7 @@ pub fn write_report(log: &Log, tables: &Path, figures: &Path) -> Result<ReportPa
     }
     let sweeps = config.sweep.bin_distance.len() > 1
         || config.sweep.friction.len() > 1
+        || !config.sweep.variants.is_empty()
         || config.scenes.objects.len() > 1;
     let pushing = summarise(log)
         .iter()

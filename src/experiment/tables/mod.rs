@@ -210,10 +210,13 @@ fn paired_with_sog(log: &Log, rows: &[&LogRow]) -> Option<(f64, f64)> {
 }
 
 /// The paper's figure for a group, when the group matches the paper's setup (34 objects, the bin
-/// beside the workspace: the default time model's 0.3 m).
+/// beside the workspace: the default time model's 0.3 m; no sweep variant, which changes the cell).
 fn paper_reference(group: &GroupSummary) -> Option<(f64, f64)> {
     let adjacent = crate::time_model::TimeModel::default().bin_distance;
-    if group.objects != 34 || (group.bin_distance - adjacent).abs() > 1e-9 {
+    if group.objects != 34
+        || (group.bin_distance - adjacent).abs() > 1e-9
+        || group.variant.is_some()
+    {
         return None;
     }
     PAPER_OPT
@@ -310,7 +313,7 @@ fn results_table(log: &Log) -> Table {
     // Riders only where some run placed one, so tables of logs without riders stay as they were.
     let riders = groups.iter().any(|g| g.riders_placed > 0);
     if riders {
-        columns.push(Column::markdown("riders lost / placed", 0));
+        columns.push(Column::markdown("riders lost / placed", 0).latex("Riders lost", 'r', 0));
     }
     columns.extend([
         Column::markdown("robot time (s)", 1).latex("Time (s)", 'r', 0),
