@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The MuJoCo check of the paper's validation section: ``mujoco_loop.py`` on several generated scenes
 and policies, noise-free, with pushmog's rapier simulator on the same scenes beside it. Writes one
-JSON file per run and the tables ``mujoco-agreement.md`` and ``mujoco-agreement.tex``. With
-``--noise``, both engines add pushmog's perception and actuation noise (same seeds); the runs are
-``<policy>-<seed>-noisy.json`` and the tables ``mujoco-agreement-noisy.*``.
+JSON file per run and the tables ``mujoco-agreement.md`` and ``mujoco-agreement.tex`` (``--name``
+names them otherwise). With ``--noise``, both engines add pushmog's perception and actuation noise
+(same seeds); the runs are ``<policy>-<seed>-noisy.json`` and the tables
+``mujoco-agreement-noisy.*``. Riders (``push-mog-time-riders``) add a column of riders not carried
+by their trip over riders placed.
 
     python python/examples/mujoco_agreement.py --seeds 1-10 --out paper/tables --runs experiments/results/mujoco
 """
@@ -25,15 +27,22 @@ import pushmog  # noqa: E402
 
 
 # Named settings run as a policy of their own: push-mog-time is push-mog-opt with the settings file
-# that experiments/picks-per-hour.toml gives it.
-PRESETS = {"push-mog-time": ("push-mog-opt", Path(__file__).resolve().parents[2] / "experiments" / "push-mog-time.json")}
+# that experiments/picks-per-hour.toml gives it, push-mog-time-riders the same with riders on (as
+# experiments/stacking.toml runs it).
+EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
+PRESETS = {
+    "push-mog-time": ("push-mog-opt", EXPERIMENTS / "push-mog-time.json", {}),
+    "push-mog-time-riders": ("push-mog-opt", EXPERIMENTS / "push-mog-time.json", {"riders": {"enabled": True}}),
+}
 
 
 def planner(name: str) -> pushmog.Planner:
     """The planner of a policy or of a preset."""
     if name in PRESETS:
-        policy, settings = PRESETS[name]
-        return pushmog.Planner(policy, settings=json.loads(settings.read_text()))
+        policy, path, extra = PRESETS[name]
+        settings = json.loads(path.read_text())
+        settings.update(extra)
+        return pushmog.Planner(policy, settings=settings)
     return pushmog.Planner(name)
 
 
@@ -74,6 +83,7 @@ def summary(results: list, engine: str) -> dict:
         "single": (sum(v[1] for v in single), sum(v[0] for v in single)),
         "landed": sum(r["multi_misses"]["landed"] for r in rows),
         "lost": sum(r["multi_misses"]["lost in closing or lift"] for r in rows),
+        "riders": (sum(r.get("riders_lost", 0) for r in rows), sum(r.get("riders_placed", 0) for r in rows)),
     }
 
 
@@ -84,17 +94,22 @@ def fraction(pair: tuple, tex: bool) -> str:
 
 
 def tables(results: list, policies: list, first: int, last: int, noise: bool) -> tuple:
+    # Riders only where some run placed one, so the tables of runs without riders stay as they were.
+    riders = any(r.get("riders_placed") or r["rapier"].get("riders_placed") for r in results)
     head = ["policy", "engine", "scenes cleared", "objects per trip", "single-object as predicted", "multi-object as predicted", "misses: landed", "misses: lost in closing or lift"]
+    head += ["riders not carried / placed"] if riders else []
     how = "with pushmog's perception and actuation noise" if noise else "noise-free"
     md = [f"MuJoCo {mujoco.__version__} and pushmog's rapier simulator, {how}, scenes of seeds {first}-{last}.", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    tex = ["\\begin{tabular}{llrrrrrr}", "policy & engine & cleared & OpT & single & multi & landed & lost \\\\", "\\hline"]
+    columns = "llrrrrrr" + ("r" if riders else "")
+    tex = [f"\\begin{{tabular}}{{{columns}}}", "policy & engine & cleared & OpT & single & multi & landed & lost" + (" & riders lost" if riders else "") + " \\\\", "\\hline"]
     for policy in policies:
         runs = [r for r in results if r["policy"] == policy]
         for engine, label in (("mujoco", "MuJoCo"), ("rapier", "rapier")):
             s = summary(runs, engine)
-            cells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], False), fraction(s["multi"], False), str(s["landed"]), str(s["lost"])]
+            extra = [f"{s['riders'][0]}/{s['riders'][1]}" if s["riders"][1] else "–"] if riders else []
+            cells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], False), fraction(s["multi"], False), str(s["landed"]), str(s["lost"]), *extra]
             md.append("| " + " | ".join(cells) + " |")
-            texcells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], True), fraction(s["multi"], True), str(s["landed"]), str(s["lost"])]
+            texcells = [policy, label, f"{s['cleared']}/{s['scenes']}", f"{s['opt']:.3f}", fraction(s["single"], True), fraction(s["multi"], True), str(s["landed"]), str(s["lost"]), *(e.replace("–", "--") for e in extra)]
             tex.append(" & ".join(texcells) + " \\\\")
     tex.append("\\end{tabular}")
     return "\n".join(md) + "\n", "\n".join(tex) + "\n"
@@ -109,6 +124,7 @@ def main() -> None:
     parser.add_argument("--runs", default="experiments/results/mujoco")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--noise", action="store_true", help="perception and actuation noise as pushmog's simulator, in both engines")
+    parser.add_argument("--name", default="mujoco-agreement", help="the tables' file name, before -noisy and the extension")
     args = parser.parse_args()
     Path(args.runs).mkdir(parents=True, exist_ok=True)
     chosen = seeds(args.seeds)
@@ -116,7 +132,7 @@ def main() -> None:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         results = list(pool.map(one, tasks))
     md, tex = tables(results, args.policies, chosen[0], chosen[-1], args.noise)
-    name = f"mujoco-agreement{noisy(args.noise)}"
+    name = f"{args.name}{noisy(args.noise)}"
     Path(args.out, f"{name}.md").write_text(md)
     Path(args.out, f"{name}.tex").write_text(tex)
     print(md)

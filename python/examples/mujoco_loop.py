@@ -24,7 +24,17 @@ The camera sees what pushmog's simulator's camera sees: upright objects inside t
 toppled object lying flat on a face as a new, lower prism (its outline from above); a toppled object
 leaning on something, or one outside the workspace, is lost.
 
+Riders (policy setting ``riders``, ``formulations/stacking.md``) are put down as pushmog's simulator
+puts them: picked by their single-object grasp with the pads at half their height, lifted 1 cm clear
+of everything, carried and turned over the row, lowered until their base is 2 mm above the row's
+top, let go, and the hand rises. A grasp with riders aboard then carries the row sideways along the
+plates (0.3 m at the simulator's ``carry_speed`` and ``carry_acceleration``, a trapezoidal profile)
+before counting what is held. A placed rider still standing upright 5 mm or more above the table
+when the camera looks is reported lost, "a rider left on another object", as in pushmog's
+simulator.
+
     python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
+    python examples/mujoco_loop.py --seed 1 --policy push-mog-opt --settings experiments/push-mog-opt-riders.json
 """
 
 from __future__ import annotations
@@ -52,6 +62,8 @@ TIMESTEP = 0.0005  # s; at 1 ms the stiff, no-slip contacts of a squeezed row so
 TRANSFER_SPEED = 0.25  # m/s, moves through the air (not timed: only what happens on the table matters)
 BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the table
 STRAIGHT = 1e-7  # sine of the smallest turn a hull keeps at a vertex (pushmog refuses below 1e-9)
+RIDING = 0.005  # m: a placed rider whose base stands this high is still on another object (as pushmog's simulator)
+RIDER_LEFT = "a rider left on another object"  # pushmog's simulator's reason, word for word
 
 
 def prism_mesh(vertices: np.ndarray, height: float) -> str:
@@ -143,6 +155,7 @@ class Record:
     carried: list
     pushes: int
     landed: bool = False
+    riders: list = field(default_factory=list)  # riders put down on the row before its grasp
 
 
 @dataclass
@@ -169,6 +182,7 @@ class World:
         self.geom_object = {g: i for i, b in self.body.items() for g in range(self.model.ngeom) if self.model.geom_bodyid[g] == b}
         self.landed_on: Optional[int] = None  # the object a pad last came down on
         self.binned: list = []
+        self.placed: list = []  # riders put down and not yet carried
         half = self.scene.gripper["stroke"] / 2
         # Park the gripper high above the table, jaws fully open.
         self.target = np.array([0.3, 0.2, 0.3, 0.0, -2 * half])
@@ -212,6 +226,30 @@ class World:
                 return True
         self.wait(0.02)
         return watch_landing and self.pad_on_top()
+
+    def carry(self, offset: np.ndarray, speed: float, acceleration: float) -> None:
+        """Moves the hand target by `offset` (x, y, z) with a trapezoidal speed profile: up to
+        `acceleration` and at most `speed`, as an arm's linear move (what may slide or tip a
+        rider)."""
+        start = self.target[:3].copy()
+        distance = float(np.linalg.norm(offset))
+        if distance <= 0:
+            return
+        top = min(speed, math.sqrt(distance * acceleration))
+        ramp = top / acceleration
+        duration = 2 * ramp + (distance - top * ramp) / top
+        steps = max(1, int(math.ceil(duration / TIMESTEP)))
+        for k in range(1, steps + 1):
+            t = k * duration / steps
+            if t < ramp:
+                travelled = 0.5 * acceleration * t * t
+            elif t > duration - ramp:
+                left = duration - t
+                travelled = distance - 0.5 * acceleration * left * left
+            else:
+                travelled = 0.5 * top * ramp + top * (t - ramp)
+            self.target[:3] = start + offset * (travelled / distance)
+            self.step()
 
     def set_opening(self, opening: float) -> None:
         """Opens the jaws to `opening` between the plate centres, and waits until they are there."""
@@ -290,8 +328,11 @@ class World:
         for object_id, obj in self.objects.items():
             if object_id in self.binned:
                 continue
-            x, y, yaw, tilt, _ = self.pose(object_id)
+            x, y, yaw, tilt, lowest = self.pose(object_id)
             vertices, height = obj.vertices, obj.height
+            if object_id in self.placed and tilt <= self.sim["topple_angle"] and lowest > RIDING:
+                lost[object_id] = RIDER_LEFT
+                continue
             if tilt > self.sim["topple_angle"]:
                 flat = self.lying_flat(object_id)
                 if flat is None:
@@ -351,12 +392,53 @@ class World:
         lift = self.sim["lift"]
         self.move(np.array([*center, self.sim["grasp_height"] + lift, yaw]), self.sim["vertical_speed"])
         self.wait(self.sim["settle"])
+        aboard = [i for i in self.placed if self.pose(i)[4] > 0.5 * lift]
+        if aboard and self.sim["carry"] > 0:
+            # With riders aboard the row goes sideways toward the bin, along the plates.
+            along = yaw + math.pi / 2
+            way = np.array([math.cos(along), math.sin(along), 0.0]) * self.sim["carry"]
+            self.carry(way, self.sim["carry_speed"], self.sim["carry_acceleration"])
+            self.wait(self.sim["settle"])
         carried = [i for i in self.objects if i not in self.binned and self.pose(i)[4] > 0.5 * lift]
         for object_id in carried:
             self.to_bin(object_id)
+        self.placed = [i for i in self.placed if i not in carried]
         self.set_opening(grasp.jaws.opening)
         self.wait(0.2)  # whatever dropped settles before the next observation
         return carried, False
+
+    def place(self, rider: dict, offset: np.ndarray) -> bool:
+        """Puts a rider down on its row's top (see the module docstring); True when the pick's
+        descent came down on an object (the action stops there). Actuation noise (`offset`) moves
+        the pick and the release alike."""
+        object_id = rider["object"]
+        height = self.objects[object_id].height
+        jaws = rider["pick"]["jaws"]
+        grip = max(0.5 * height, self.sim["grasp_height"])
+        above = self.tallest() + 0.01
+        center = np.array(jaws["center"]) + offset[:2]
+        yaw = jaws["angle"] + offset[2]
+        self.move(np.array([*self.target[:2], above, self.target[3]]), TRANSFER_SPEED)
+        self.set_opening(jaws["opening"])
+        self.move(np.array([*center, above, yaw]), TRANSFER_SPEED)
+        if self.move(np.array([*center, grip, yaw]), self.sim["vertical_speed"], watch_landing=True):
+            self.move(np.array([*center, above, yaw]), self.sim["vertical_speed"])
+            return True
+        self.close()
+        self.wait(0.05)
+        # Base 1 cm above everything, then over the release, turned as it says.
+        high = self.tallest() + 0.01 + grip
+        self.move(np.array([*center, high, yaw]), self.sim["vertical_speed"])
+        release = np.array(rider["release"]["center"]) + offset[:2]
+        turned = yaw + wrap(rider["release"]["angle"] - jaws["angle"])
+        self.move(np.array([*release, high, turned]), TRANSFER_SPEED)
+        self.move(np.array([*release, rider["base"] + 0.002 + grip, turned]), self.sim["vertical_speed"])
+        self.set_opening(jaws["opening"])
+        self.wait(0.1)
+        self.move(np.array([*release, rider["base"] + height + 0.01, turned]), self.sim["vertical_speed"])
+        self.wait(0.05)
+        self.placed.append(object_id)
+        return False
 
     def to_bin(self, object_id: int) -> None:
         spot = BIN + np.array([0.1 * len(self.binned), 0.0])
@@ -365,6 +447,11 @@ class World:
         self.data.qvel[dof : dof + 6] = 0
         self.binned.append(object_id)
         mujoco.mj_forward(self.model, self.data)
+
+
+def wrap(angle: float) -> float:
+    """`angle` in (-π, π]."""
+    return math.atan2(math.sin(angle), math.cos(angle))
 
 
 def outside(outline: np.ndarray, low, high) -> bool:
@@ -412,7 +499,8 @@ def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
 def separated(objects: list, scene: pushmog.Scene) -> pushmog.Scene:
     """A pushmog scene of `objects`. Soft contacts let touching objects interpenetrate by a fraction of
     a millimetre, which a scene refuses (as a camera's segmentation would never report it): each
-    reported overlap is undone by moving the second object straight away from the first."""
+    reported overlap is undone by moving the second object straight away from the first (or the first
+    away from the second, when the second would leave the workspace)."""
     poses = {o.id: o for o in objects}
     for _ in range(10 * len(objects) + 10):
         try:
@@ -424,8 +512,15 @@ def separated(objects: list, scene: pushmog.Scene) -> pushmog.Scene:
             away = second.world_vertices().mean(axis=0) - first.world_vertices().mean(axis=0)
             away /= max(float(np.linalg.norm(away)), 1e-9)
             shift = away * (error.depth + 1e-4)
-            moved = pushmog.Pose(second.pose.x + shift[0], second.pose.y + shift[1], second.pose.yaw)
-            poses[second.id] = pushmog.Object(second.id, second.vertices, moved, second.height, second.name, second.mass)
+            # The second goes; when that would put it past the workspace's edge, the first goes the
+            # other way instead (a scene refuses an outline outside the workspace too).
+            low, high = scene.workspace
+            for obj, sign in ((second, 1.0), (first, -1.0)):
+                moved = pushmog.Pose(obj.pose.x + sign * shift[0], obj.pose.y + sign * shift[1], obj.pose.yaw)
+                candidate = pushmog.Object(obj.id, obj.vertices, moved, obj.height, obj.name, obj.mass)
+                if not outside(candidate.world_vertices(), low, high) or sign < 0:
+                    poses[obj.id] = candidate
+                    break
     raise RuntimeError("could not separate the observed outlines")
 
 
@@ -485,26 +580,38 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
                 break
             current = corrected
         trip = current
-        carried = []
+        carried, placed = [], []
+        if not landed:
+            # Riders go down on the row just before its grasp; a pick that lands stops the trip.
+            for rider in trip.riders:
+                if world.place(rider, offset):
+                    landed = True
+                    break
+                placed.append(rider["object"])
         if not landed:
             carried, landed = world.grasp(trip.grasp, offset)
-        records.append(Record(trip.grasp.objects, carried, pushes, landed))
-        log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
+        records.append(Record(trip.grasp.objects, carried, pushes, landed, placed))
+        riders = f", riders {placed}" if placed else ""
+        log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}{riders}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
         if carried:
             in_a_row = 0
         else:
             in_a_row += 1
             context.record_failure(trip)
     carried = sum(len(r.carried) for r in records)
-    return {
+    result = {
         "status": status,
         "trips": len(records),
         "carried": carried,
         "objects_per_trip": carried / len(records) if records else 0.0,
         "carried_per_trip": [len(r.carried) for r in records],
-        "agreement": agreement([(r.predicted, r.carried) for r in records]),
-        "multi_misses": misses([(r.predicted, r.carried, r.landed) for r in records]),
+        "agreement": agreement([(r.predicted, row_carried(r.carried, r.riders)) for r in records]),
+        "multi_misses": misses([(r.predicted, row_carried(r.carried, r.riders), r.landed) for r in records]),
     }
+    if any(r.riders for r in records):
+        result["riders_placed"] = sum(len(r.riders) for r in records)
+        result["riders_lost"] = sum(len([i for i in r.riders if i not in r.carried]) for r in records)
+    return result
 
 
 def misses(trips: list) -> dict:
@@ -529,10 +636,32 @@ def both_engines(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, nois
         "trips": len(trips),
         "carried": rapier.objects_carried(),
         "objects_per_trip": rapier.objects_per_trip(),
-        "agreement": agreement([(t["grasp"]["objects"], t["carried"]) for t in trips]),
-        "multi_misses": misses([(t["grasp"]["objects"], t["carried"], t.get("fault") is not None) for t in trips]),
+        "agreement": agreement([(t["grasp"]["objects"], row_carried(t["carried"], [r["object"] for r in placed_riders(t)])) for t in trips]),
+        "multi_misses": misses([(t["grasp"]["objects"], row_carried(t["carried"], [r["object"] for r in placed_riders(t)]), t.get("fault") is not None) for t in trips]),
     }
+    placed = [(rider["object"], t["carried"]) for t in trips for rider in placed_riders(t)]
+    if placed:
+        result["rapier"]["riders_placed"] = len(placed)
+        result["rapier"]["riders_lost"] = sum(object_id not in carried for object_id, carried in placed)
     return result
+
+
+def row_carried(carried: list, riders: list) -> list:
+    """What a grasp carried of the table, its riders left out: the agreement compares the row with
+    the row predicted, and riders are counted apart (``riders_placed``, ``riders_lost``)."""
+    return [i for i in carried if i not in riders]
+
+
+def placed_riders(trip: dict) -> list:
+    """The riders a rapier trip put down: all of them unless a push or a rider's pick came down on
+    an object first (as pushmog's own count, ``riders_placed``)."""
+    riders = trip.get("riders") or []
+    fault = trip.get("fault") or {}
+    if fault.get("during") == "push":
+        return []
+    if fault.get("during") == "place":
+        return riders[: fault.get("rider", 0)]
+    return riders
 
 
 def percent(table: dict, multi: bool) -> str:
@@ -547,13 +676,18 @@ def main(argv: Optional[list] = None) -> int:
     parser.add_argument("--seed", type=int, default=1, help="scene seed (pushmog scene generate --seed)")
     parser.add_argument("--scene", help="a scene JSON file instead of a generated one")
     parser.add_argument("--policy", default="push-mog-opt", choices=pushmog.POLICIES)
+    parser.add_argument("--settings", help="policy settings, a JSON file (pushmog schema policy), e.g. experiments/push-mog-opt-riders.json")
     parser.add_argument("--noise", action="store_true", help="perception and actuation noise as pushmog's simulator")
     parser.add_argument("--json", help="write the figures to this file")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
 
     scene = pushmog.Scene.from_json(args.scene) if args.scene else pushmog.generate_scene(args.objects, args.seed)
-    planner = pushmog.Planner(args.policy)
+    settings = None
+    if args.settings:
+        with open(args.settings, encoding="utf-8") as file:
+            settings = json.load(file)
+    planner = pushmog.Planner(args.policy, settings=settings)
     log = (lambda *_: None) if args.quiet else print
     log(f"MuJoCo {mujoco.__version__}, pushmog {pushmog.__version__}, policy {args.policy}, {len(scene)} objects")
     result = both_engines(scene, planner, args.seed, args.noise, log)
@@ -569,6 +703,9 @@ def main(argv: Optional[list] = None) -> int:
     print(f"  multi-object   MuJoCo {percent(result['agreement'], True)}, rapier {percent(result['rapier']['agreement'], True)}")
     print(f"  multi-object misses: MuJoCo {result['multi_misses']}, rapier {result['rapier']['multi_misses']}")
     print(f"rapier: {result['rapier']['status']}; {result['rapier']['trips']} trips; objects per trip {result['rapier']['objects_per_trip']:.3f}")
+    for engine, figures in (("MuJoCo", result), ("rapier", result["rapier"])):
+        if "riders_placed" in figures:
+            print(f"{engine} riders: {figures['riders_lost']} of {figures['riders_placed']} placed not carried by their trip")
     if args.json:
         with open(args.json, "w", encoding="utf-8") as out:
             json.dump(result, out, indent=2)

@@ -182,3 +182,45 @@ def test_a_footprint_hull_drops_corners_pushmog_would_call_collinear():
     base = pushmog.generate_scene(1, seed=2)
     lying = pushmog.Object(0, (hull - hull.mean(axis=0)).tolist(), pushmog.Pose(0.3, 0.2, 0.0), 0.03, "lying", None)
     assert len(pushmog.Scene.from_objects([lying], gripper=base.gripper, workspace=base.workspace)) == 1
+
+
+def test_a_rider_put_down_on_a_row_rides_its_grasp_and_the_sideways_carry():
+    # Two 30 mm cubes side by side along x (0.5 mm apart) make a row 61 mm wide; a 20 x 20 mm block
+    # 15 mm tall is put down across their tops, centred, as pushmog's checks would place it (its
+    # centroid 10 mm inside the support, its footprint 20 mm inside the faces the pads close on).
+    example = load_example()
+    from types import SimpleNamespace
+
+    import numpy as np
+    import pushmog
+
+    base = pushmog.generate_scene(1, seed=2)
+    low, high = base.workspace
+    cx, cy = (np.asarray(low) + np.asarray(high)) / 2
+    cube = [[-0.015, -0.015], [0.015, -0.015], [0.015, 0.015], [-0.015, 0.015]]
+    block = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]
+    objects = [
+        pushmog.Object(0, cube, pushmog.Pose(cx - 0.01525, cy, 0.0), 0.03, "cube", None),
+        pushmog.Object(1, cube, pushmog.Pose(cx + 0.01525, cy, 0.0), 0.03, "cube", None),
+        pushmog.Object(2, block, pushmog.Pose(cx + 0.12, cy, 0.0), 0.015, "block", None),
+    ]
+    scene = pushmog.Scene.from_objects(objects, gripper=base.gripper, workspace=base.workspace)
+    sim = pushmog.default_settings("sim")
+    world = example.World(scene, sim)
+    rider = {
+        "object": 2,
+        "pick": {"jaws": {"center": [cx + 0.12, cy], "angle": 0.0, "opening": 0.05}},
+        "release": {"center": [cx, cy], "angle": 0.0, "opening": 0.05},
+        "base": 0.03,
+    }
+    assert not world.place(rider, np.zeros(3))
+    x, y, _, tilt, lowest = world.pose(2)
+    assert abs(x - cx) < 0.003 and abs(y - cy) < 0.003
+    assert tilt < 0.05 and lowest == pytest.approx(0.03, abs=0.002)
+    # The camera reports it standing on the row, as pushmog's simulator does.
+    observed, lost = world.observe(0.0, None)
+    assert lost == {2: example.RIDER_LEFT} and len(observed) == 2
+    grasp = SimpleNamespace(jaws=SimpleNamespace(center=np.array([cx, cy]), angle=0.0, opening=0.085))
+    carried, landed = world.grasp(grasp, np.zeros(3))
+    assert not landed and sorted(carried) == [0, 1, 2]
+    assert world.placed == []
