@@ -165,7 +165,8 @@ pub struct SweepConfig {
 /// One variant of every run: settings laid over the executor's simulator settings and over every
 /// policy's settings (tables are merged key by key, so `{ riders = { checks = { acceleration =
 /// 2.0 } } }` changes that one value). What a variant changes in the simulator is the world; what
-/// it changes in the policies is what the planners believe and how the time model charges.
+/// it changes in the policies is what the planners believe and how the time model charges. A
+/// swept friction or bin distance is applied after the variant.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Variant {

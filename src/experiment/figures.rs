@@ -134,6 +134,16 @@ pub fn opt_per_policy_svg(log: &Log) -> Result<String> {
     Ok(svg)
 }
 
+/// Half-width of the 95 % interval of a group's mean objects per trip (Student's t, [`t_95`]); 0
+/// for fewer than two runs.
+fn opt_interval(g: &super::tables::GroupSummary) -> f64 {
+    if g.runs < 2 {
+        0.0
+    } else {
+        t_95(g.runs) * g.opt.1 / (g.runs as f64).sqrt()
+    }
+}
+
 fn executor(log: &Log) -> &'static str {
     log.header.config.executor.kind.name()
 }
@@ -288,18 +298,11 @@ pub fn planning_time_svg(log: &Log) -> Result<String> {
 /// A drawing failure, or a log without rows.
 pub fn push_distance_svg(log: &Log) -> Result<String> {
     let groups = summarise(log);
-    let interval = |g: &super::tables::GroupSummary| {
-        if g.runs < 2 {
-            0.0
-        } else {
-            t_95(g.runs) * g.opt.1 / (g.runs as f64).sqrt()
-        }
-    };
     let (mut x_hi, mut y_lo, mut y_hi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
     for g in &groups {
         x_hi = x_hi.max(g.push_distance);
-        y_lo = y_lo.min(g.opt.0 - interval(g));
-        y_hi = y_hi.max(g.opt.0 + interval(g));
+        y_lo = y_lo.min(g.opt.0 - opt_interval(g));
+        y_hi = y_hi.max(g.opt.0 + opt_interval(g));
     }
     if !y_lo.is_finite() {
         return Err(Error::field("figure", "log", "the log has no rows to plot"));
@@ -340,7 +343,7 @@ pub fn push_distance_svg(log: &Log) -> Result<String> {
             .map_err(plot_error)?;
         for (k, g) in groups.iter().enumerate() {
             let colour = colours[k % colours.len()];
-            let (x, y, e) = (g.push_distance, g.opt.0, interval(g));
+            let (x, y, e) = (g.push_distance, g.opt.0, opt_interval(g));
             chart
                 .draw_series(std::iter::once(ErrorBar::new_vertical(
                     x,
@@ -388,16 +391,9 @@ pub fn variants_svg(log: &Log) -> Result<String> {
             "the log has no variants to plot",
         ));
     }
-    let interval = |g: &super::tables::GroupSummary| {
-        if g.runs < 2 {
-            0.0
-        } else {
-            t_95(g.runs) * g.opt.1 / (g.runs as f64).sqrt()
-        }
-    };
     let x_hi = groups
         .iter()
-        .map(|g| g.opt.0 + interval(g))
+        .map(|g| g.opt.0 + opt_interval(g))
         .fold(1.0, f64::max)
         * 1.08;
     let rows = variants.len();
@@ -448,7 +444,7 @@ pub fn variants_svg(log: &Log) -> Result<String> {
                         .iter()
                         .position(|v| Some(v) == g.variant.as_ref())?;
                     let y = (rows - 1 - k) as f64 + offset;
-                    let e = interval(g);
+                    let e = opt_interval(g);
                     Some(ErrorBar::new_horizontal(
                         y,
                         g.opt.0 - e,
