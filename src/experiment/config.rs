@@ -48,6 +48,8 @@ use crate::exec::SimSettings;
 use crate::policy::{ClustererKind, Policy, PolicyKind, PolicySettings, PusherKind};
 use crate::scene::{GeneratorSettings, MAX_OBJECTS, ObjectSet, Workspace, builtin_object_set};
 
+pub use super::sweep::{SweepConfig, Variant};
+
 /// Most runs one experiment may hold: a million lines of log, about 1 GB; larger studies are split
 /// into several experiments (or shards of one).
 pub const MAX_RUNS: usize = 1_000_000;
@@ -138,86 +140,6 @@ pub struct ExecutorConfig {
 }
 
 pub use crate::exec::ExecutorKind;
-
-/// Values swept over every run.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SweepConfig {
-    /// Distances to the bin, metres; empty keeps the policies' own.
-    #[serde(default)]
-    pub bin_distance: Vec<f64>,
-    /// Coulomb friction at the simulator's finger pads and between objects (`friction_finger` and
-    /// `friction_object` together); empty keeps the executor's settings. The planners' grasp models
-    /// keep their own friction: this varies the world, not what the planner believes. When given,
-    /// at least one value.
-    #[serde(
-        default,
-        skip_serializing_if = "Vec::is_empty",
-        deserialize_with = "crate::json::non_empty_list"
-    )]
-    pub friction: Vec<f64>,
-    /// Named variants of every run, each changing simulator and policy settings together; empty
-    /// keeps them as they are.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub variants: Vec<Variant>,
-}
-
-/// One variant of every run: settings laid over the executor's simulator settings and over every
-/// policy's settings (tables are merged key by key, so `{ riders = { checks = { acceleration =
-/// 2.0 } } }` changes that one value). What a variant changes in the simulator is the world; what
-/// it changes in the policies is what the planners believe and how the time model charges. A
-/// swept friction or bin distance is applied after the variant.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct Variant {
-    /// The variant's name in tables and logs.
-    pub label: String,
-    /// Simulator settings changed (any subset of the executor's `settings`).
-    #[serde(default)]
-    pub sim: serde_json::Map<String, serde_json::Value>,
-    /// Policy settings changed in every policy (any subset).
-    #[serde(default)]
-    pub policies: serde_json::Map<String, serde_json::Value>,
-}
-
-/// `over` laid onto `base`: tables merged key by key, anything else replaced.
-fn lay_over(base: &mut serde_json::Value, over: &serde_json::Map<String, serde_json::Value>) {
-    let serde_json::Value::Object(base) = base else {
-        *base = serde_json::Value::Object(over.clone());
-        return;
-    };
-    for (key, value) in over {
-        match (base.get_mut(key), value) {
-            (Some(slot @ serde_json::Value::Object(_)), serde_json::Value::Object(inner)) => {
-                lay_over(slot, inner);
-            }
-            _ => {
-                base.insert(key.clone(), value.clone());
-            }
-        }
-    }
-}
-
-/// `settings` with `over` laid onto them and read back; errors name `field` of the variant `label`.
-fn with_overrides<T>(
-    settings: &T,
-    over: &serde_json::Map<String, serde_json::Value>,
-    label: &str,
-    field: &str,
-) -> Result<T>
-where
-    T: Clone + Serialize + serde::de::DeserializeOwned,
-{
-    if over.is_empty() {
-        return Ok(settings.clone());
-    }
-    let refuse = |e: serde_json::Error| {
-        Error::field(format!("sweep variant `{label}`"), field, e.to_string())
-    };
-    let mut value = serde_json::to_value(settings).map_err(refuse)?;
-    lay_over(&mut value, over);
-    serde_json::from_value(value).map_err(refuse)
-}
 
 /// One policy of the comparison.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -401,73 +323,12 @@ impl ExperimentConfig {
         Ok(())
     }
 
-    /// Swept bin distances and frictions that are lengths and coefficients; a friction sweep only
-    /// in the simulator.
+    /// The sweep's values in range ([`SweepConfig::check`]) and each variant's settings fitting the
+    /// simulator and every policy.
     fn validate_sweep(&self, component: &str) -> Result<()> {
-        if self
-            .sweep
-            .bin_distance
-            .iter()
-            .any(|d| !(d.is_finite() && *d >= 0.0))
-        {
-            return Err(Error::field(
-                component.to_string(),
-                "sweep.bin_distance",
-                "must be non-negative metres",
-            ));
-        }
-        if self
-            .sweep
-            .friction
-            .iter()
-            .any(|f| !(f.is_finite() && *f >= 0.0))
-        {
-            return Err(Error::field(
-                component.to_string(),
-                "sweep.friction",
-                "must be non-negative friction coefficients",
-            ));
-        }
-        if !self.sweep.friction.is_empty() && self.executor.kind != ExecutorKind::Sim {
-            return Err(Error::field(
-                component.to_string(),
-                "sweep.friction",
-                "sweeps the simulator's friction: needs `executor.kind = \"sim\"`",
-            ));
-        }
-        self.validate_variants(component)
-    }
-
-    /// Variants with labels of their own whose settings fit the simulator and every policy.
-    fn validate_variants(&self, component: &str) -> Result<()> {
-        for (k, variant) in self.sweep.variants.iter().enumerate() {
-            if variant.label.trim().is_empty() {
-                return Err(Error::field(
-                    component.to_string(),
-                    "sweep.variants.label",
-                    format!("variant {} needs a label", k + 1),
-                ));
-            }
-            if self.sweep.variants[..k]
-                .iter()
-                .any(|v| v.label == variant.label)
-            {
-                return Err(Error::field(
-                    component.to_string(),
-                    "sweep.variants.label",
-                    format!("two variants are labelled `{}`", variant.label),
-                ));
-            }
-            if !variant.sim.is_empty() && self.executor.kind != ExecutorKind::Sim {
-                return Err(Error::field(
-                    component.to_string(),
-                    "sweep.variants.sim",
-                    format!(
-                        "variant `{}` changes the simulator's settings: needs `executor.kind = \"sim\"`",
-                        variant.label
-                    ),
-                ));
-            }
+        let simulated = self.executor.kind == ExecutorKind::Sim;
+        self.sweep.check(simulated, component)?;
+        for k in 0..self.sweep.variants.len() {
             self.sim_settings(None, Some(k))?.validate()?;
             for policy in 0..self.policies.len() {
                 self.policy_settings(policy, None, Some(k))?.validate()?;
@@ -501,47 +362,25 @@ impl ExperimentConfig {
 
     /// Every run, numbered.
     pub fn runs(&self) -> Vec<RunSpec> {
-        let values = |swept: &[f64]| -> Vec<Option<f64>> {
-            if swept.is_empty() {
-                vec![None]
-            } else {
-                swept.iter().copied().map(Some).collect()
-            }
-        };
-        let (bins, frictions) = (
-            values(&self.sweep.bin_distance),
-            values(&self.sweep.friction),
-        );
-        let variants: Vec<Option<usize>> = if self.sweep.variants.is_empty() {
-            vec![None]
-        } else {
-            (0..self.sweep.variants.len()).map(Some).collect()
-        };
+        let points = self.sweep.points();
         let mut runs = Vec::new();
         for &objects in &self.scenes.objects {
             for scene in 0..self.scenes.count as u64 {
-                for &bin_distance in &bins {
-                    for &friction in &frictions {
-                        for &variant in &variants {
-                            for policy in 0..self.policies.len() {
-                                for repetition in 0..self.repetitions {
-                                    let id = runs.len();
-                                    runs.push(RunSpec {
-                                        id,
-                                        objects,
-                                        scene_seed: self.scenes.first_seed + scene,
-                                        bin_distance,
-                                        friction,
-                                        variant,
-                                        policy,
-                                        repetition,
-                                        run_seed: self
-                                            .seed
-                                            .wrapping_mul(1_000_003)
-                                            .wrapping_add(id as u64),
-                                    });
-                                }
-                            }
+                for &(bin_distance, friction, variant) in &points {
+                    for policy in 0..self.policies.len() {
+                        for repetition in 0..self.repetitions {
+                            let id = runs.len();
+                            runs.push(RunSpec {
+                                id,
+                                objects,
+                                scene_seed: self.scenes.first_seed + scene,
+                                bin_distance,
+                                friction,
+                                variant,
+                                policy,
+                                repetition,
+                                run_seed: self.seed.wrapping_mul(1_000_003).wrapping_add(id as u64),
+                            });
                         }
                     }
                 }
@@ -592,7 +431,7 @@ impl ExperimentConfig {
     ) -> Result<PolicySettings> {
         let mut settings = self.policies[policy].settings.clone();
         if let Some(v) = variant.map(|v| &self.sweep.variants[v]) {
-            settings = with_overrides(&settings, &v.policies, &v.label, "policies")?;
+            settings = v.policy_settings(&settings)?;
         }
         if let Some(distance) = bin_distance {
             settings.time_model.bin_distance = distance;
@@ -611,7 +450,7 @@ impl ExperimentConfig {
     ) -> Result<SimSettings> {
         let mut settings = self.executor.settings.clone();
         if let Some(v) = variant.map(|v| &self.sweep.variants[v]) {
-            settings = with_overrides(&settings, &v.sim, &v.label, "sim")?;
+            settings = v.sim_settings(&settings)?;
         }
         if let Some(friction) = friction {
             settings.friction_finger = friction;

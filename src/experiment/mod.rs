@@ -16,6 +16,7 @@ pub mod log;
 mod push_comparison;
 mod report;
 mod runner;
+mod sweep;
 pub mod tables;
 
 pub use cluster_comparison::{
@@ -23,7 +24,7 @@ pub use cluster_comparison::{
 };
 pub use config::{
     ExecutorConfig, ExecutorKind, ExperimentConfig, MAX_RUNS, PolicyConfig, RunSpec, SceneConfig,
-    SweepConfig,
+    SweepConfig, Variant,
 };
 pub use log::{
     Log, LogHeader, LogReader, LogRow, LoggedAbilities, merge_logs, merge_logs_into, read_log,
