@@ -373,13 +373,14 @@ mod tests {
         assert!(kept.iter().all(|&d| d < 1.5), "{kept:?}");
     }
 
-    /// The centres of `pixels`.
+    /// The boundary pixels' centres, as `image_hull` gathers them for the fit.
     fn boundary(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
         let mut points = row_ends(pixels, width);
         points.extend(column_ends(pixels, width));
         points
     }
 
+    /// The centres of `pixels`.
     fn centres(pixels: &[usize], width: usize) -> Vec<Point2<f64>> {
         pixels
             .iter()
