@@ -116,10 +116,11 @@ fn table_and_heights(
         let ray = rotation * nalgebra::Vector3::new((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
         centre + ray * depth[i]
     };
-    // Every fourth pixel of every fourth row: a sixteenth of the image is plenty for three numbers.
-    let sample: Vec<Point3<f64>> = (0..depth.len())
+    // Every fourth pixel (every index divisible by 4) of every fourth row: a sixteenth of the image
+    // is plenty for three numbers.
+    let sample: Vec<Point3<f64>> = (0..depth.len() / width)
         .step_by(4)
-        .filter(|i| (i / width).is_multiple_of(4))
+        .flat_map(|v| ((v * width).next_multiple_of(4)..(v + 1) * width).step_by(4))
         .map(point)
         .filter(|p| p.z.is_finite() && workspace.outside_by(&Point2::new(p.x, p.y)) == 0.0)
         .collect();
@@ -191,16 +192,11 @@ fn object_mask(heights: &[f64], camera: &Camera, cut: f64) -> (Mask, Vec<u32>) {
 /// The pixel lists of `labels` (per pixel, 0 for none), one per distinct non-zero value, each in
 /// raster order.
 fn group(labels: &[u32]) -> BTreeMap<u32, Vec<usize>> {
-    let mut pairs: Vec<(u32, usize)> = labels
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| **l != 0)
-        .map(|(i, &l)| (l, i))
-        .collect();
-    pairs.sort_unstable();
     let mut groups: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-    for chunk in pairs.chunk_by(|a, b| a.0 == b.0) {
-        groups.insert(chunk[0].0, chunk.iter().map(|p| p.1).collect());
+    for (i, &label) in labels.iter().enumerate() {
+        if label != 0 {
+            groups.entry(label).or_default().push(i);
+        }
     }
     groups
 }
