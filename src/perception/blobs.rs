@@ -271,16 +271,23 @@ mod tests {
         out
     }
 
+    /// A mask of up to `most` pixels across and down, each set with a probability drawn from
+    /// `density`.
+    fn random_mask(rng: &mut SeededRng, most: (usize, usize), density: (f64, f64)) -> Mask {
+        let (width, height) = (1 + rng.index(most.0), 1 + rng.index(most.1));
+        let density = rng.uniform(density.0, density.1);
+        let set = (0..width * height).map(|_| rng.unit() < density).collect();
+        Mask { width, height, set }
+    }
+
     #[test]
     fn union_find_labels_agree_with_flood_fill_on_random_masks() {
         let mut rng = SeededRng::new(40);
         for trial in 0..200 {
-            let (width, height) = (1 + rng.index(40), 1 + rng.index(30));
-            let density = rng.uniform(0.2, 0.8);
-            let set = (0..width * height).map(|_| rng.unit() < density).collect();
-            let mask = Mask { width, height, set };
+            let mask = random_mask(&mut rng, (40, 30), (0.2, 0.8));
             let (labels, count) = components(&mask);
             let oracle = flood(&mask);
+            let (width, height) = (mask.width, mask.height);
             assert_eq!(labels, oracle, "trial {trial}: {width}×{height}");
             assert_eq!(count, oracle.iter().copied().max().unwrap_or(0));
         }
@@ -303,10 +310,7 @@ mod tests {
     fn specks_are_the_components_that_the_opening_empties() {
         let mut rng = SeededRng::new(41);
         for trial in 0..300 {
-            let (width, height) = (1 + rng.index(30), 1 + rng.index(20));
-            let density = rng.uniform(0.4, 0.95);
-            let set = (0..width * height).map(|_| rng.unit() < density).collect();
-            let mask = Mask { width, height, set };
+            let mask = random_mask(&mut rng, (30, 20), (0.4, 0.95));
             let (parts, count) = components(&mask);
             let opened = opening(&mask);
             let mut keep = vec![false; count as usize + 1];
