@@ -89,25 +89,23 @@ impl SweepConfig {
     /// The sweep's points in run order: bin distance, then friction, then variant (`None` where
     /// that value is not swept).
     pub(super) fn points(&self) -> Vec<(Option<f64>, Option<f64>, Option<usize>)> {
-        let values = |swept: &[f64]| -> Vec<Option<f64>> {
-            if swept.is_empty() {
-                vec![None]
-            } else {
-                swept.iter().copied().map(Some).collect()
-            }
-        };
-        let variants: Vec<Option<usize>> = if self.variants.is_empty() {
-            vec![None]
-        } else {
-            (0..self.variants.len()).map(Some).collect()
-        };
+        let variants = each_or_none((0..self.variants.len()).collect());
         let mut points = Vec::new();
-        for bin_distance in values(&self.bin_distance) {
-            for friction in values(&self.friction) {
+        for bin_distance in each_or_none(self.bin_distance.clone()) {
+            for friction in each_or_none(self.friction.clone()) {
                 points.extend(variants.iter().map(|&v| (bin_distance, friction, v)));
             }
         }
         points
+    }
+}
+
+/// Each swept value, or a single `None` when nothing is swept.
+fn each_or_none<T>(swept: Vec<T>) -> Vec<Option<T>> {
+    if swept.is_empty() {
+        vec![None]
+    } else {
+        swept.into_iter().map(Some).collect()
     }
 }
 
