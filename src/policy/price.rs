@@ -70,7 +70,9 @@ pub struct Pricing {
     /// grasps or pushes a row's objects takes the whole row, by judged probability. Default, fitted
     /// on the rows push-mog-time (flush pushes, default judge, pushing ahead) itself pushed on
     /// scenes 5001-5100 and 7001-7100, each row by its own judged probability: judged below 1,
-    /// 0.605 (86 rows); judged 1, 0.854 (2085).
+    /// 0.605 (86 rows); judged 1, 0.854 (2085). push-mog-time's settings file
+    /// (`experiments/push-mog-time.json`), whose grasp model has the friction margin, carries its
+    /// own bands, refitted the same way with the margin: 0.633 and 0.880.
     pub ahead_success: Vec<SuccessBand>,
     /// Push clusters ahead: each trip grasps one cluster as it lies and, before that grasp, pushes
     /// another into a row for a later trip, whose look shows the row (`policy/ahead.rs`). Default
