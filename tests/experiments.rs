@@ -653,3 +653,58 @@ fn bad_sweep_variants_are_refused_naming_the_variant() {
         assert!(error.contains(expected), "{variant}: {error}");
     }
 }
+
+/// A policy's `settings_file` is read relative to the configuration's folder and its own `settings`
+/// are laid over it key by key: the configuration read is the one with everything written inline,
+/// down to its `config_hash` (so logs of either resume from the other). A file that cannot be read,
+/// or holds something that is not policy settings, is refused naming the file.
+#[test]
+fn a_settings_file_is_the_same_configuration_as_its_settings_written_inline() {
+    let dir = scratch("experiment-settings-file");
+    std::fs::create_dir_all(dir.join("shared")).unwrap();
+    std::fs::write(
+        dir.join("shared/mine.json"),
+        r#"{ "pricing": { "objective": "expected_time", "push_ahead": true },
+            "time_model": { "observation": 2.0, "arm_settle": 0.5 } }"#,
+    )
+    .unwrap();
+    let head = "name = \"file\"\n[scenes]\nobjects = [8]\ncount = 2\n[[policies]]\nname = \"sog\"\n\
+                [[policies]]\nname = \"push-mog-opt\"\n";
+    let with_file = format!(
+        "{head}settings_file = \"shared/mine.json\"\nsettings = {{ time_model = {{ arm_settle = 0.7 }}, \
+         milp = {{ max_diameter = 0.12 }} }}\n"
+    );
+    let inline = format!(
+        "{head}settings = {{ pricing = {{ objective = \"expected_time\", push_ahead = true }}, \
+         time_model = {{ observation = 2.0, arm_settle = 0.7 }}, milp = {{ max_diameter = 0.12 }} }}\n"
+    );
+    let path = dir.join("file.toml");
+    std::fs::write(&path, &with_file).unwrap();
+    let read = ExperimentConfig::read(&path).unwrap();
+    let written = ExperimentConfig::from_toml(&inline, "inline").unwrap();
+    assert_eq!(read, written);
+    assert_eq!(
+        pushmog::experiment::log::config_hash(&read),
+        pushmog::experiment::log::config_hash(&written)
+    );
+    assert_eq!(read.policies[1].settings.time_model.arm_settle, 0.7);
+    assert_eq!(read.policies[1].settings.time_model.observation, 2.0);
+    assert!(read.policies[1].settings_file.is_none());
+
+    // From text, the file is found from the current directory, not from the configuration's.
+    let missing = ExperimentConfig::from_toml(&with_file, "text").unwrap_err();
+    assert!(missing.to_string().contains("mine.json"), "{missing}");
+    std::fs::write(
+        dir.join("shared/mine.json"),
+        r#"{ "pricing": { "objective": "expected_time", "pushahead": true } }"#,
+    )
+    .unwrap();
+    let wrong = ExperimentConfig::read(&path).unwrap_err().to_string();
+    assert!(
+        wrong.contains("mine.json") && wrong.contains("pushahead"),
+        "{wrong}"
+    );
+    std::fs::write(&path, format!("{head}settings_file = 3\n")).unwrap();
+    let not_a_path = ExperimentConfig::read(&path).unwrap_err().to_string();
+    assert!(not_a_path.contains("settings_file"), "{not_a_path}");
+}

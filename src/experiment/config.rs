@@ -31,6 +31,7 @@
 //! [[policies]]
 //! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
 //! settings = { }                    # policy settings (any subset)
+//! settings_file = "mine.json"       # optional: settings from a JSON file, `settings` laid over it
 //! clusterer = "milp"                # optional: replace the preset's clusterer (hierarchical, milp)
 //! pusher = "socp"                   # optional: replace its push planner (none, toward-central, socp)
 //! ```
@@ -48,6 +49,7 @@ use crate::exec::SimSettings;
 use crate::policy::{ClustererKind, Policy, PolicyKind, PolicySettings, PusherKind};
 use crate::scene::{GeneratorSettings, MAX_OBJECTS, ObjectSet, Workspace, builtin_object_set};
 
+use super::settings_file;
 pub use super::sweep::{SweepConfig, Variant};
 
 /// Most runs one experiment may hold: a million lines of log, about 1 GB; larger studies are split
@@ -159,6 +161,12 @@ pub struct PolicyConfig {
     /// Replaces the preset's push planner (`none`, `toward-central` or `socp`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pusher: Option<PusherKind>,
+    /// A JSON file of policy settings (the format of `pushmog run --settings`), relative to the
+    /// configuration's folder; `settings` are laid over it key by key. Reading the configuration
+    /// merges the two into `settings` and clears this, so logs and their `config_hash` are those of
+    /// the settings written out inline.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settings_file: Option<String>,
 }
 
 impl PolicyConfig {
@@ -217,16 +225,35 @@ impl ExperimentConfig {
     /// [`Error::Io`] or [`Error::InvalidField`] naming the problem (TOML errors give line and column).
     pub fn read(path: &Path) -> Result<Self> {
         let text = crate::json::read_text(path)?;
-        Self::from_toml(&text, &path.display().to_string())
+        let folder = path.parent().unwrap_or_else(|| Path::new(""));
+        Self::from_toml_in(&text, &path.display().to_string(), folder)
     }
 
-    /// Parses and checks a configuration; `name` says where it came from in error messages.
+    /// Parses and checks a configuration; `name` says where it came from in error messages. A
+    /// policy's `settings_file` is read relative to the current directory.
     ///
     /// # Errors
     /// As [`ExperimentConfig::read`].
     pub fn from_toml(text: &str, name: &str) -> Result<Self> {
-        let config: Self = toml::from_str(text)
-            .map_err(|e| Error::field(name, "toml", e.to_string().trim().replace('\n', " ")))?;
+        Self::from_toml_in(text, name, Path::new(""))
+    }
+
+    /// As [`ExperimentConfig::from_toml`], with settings files read relative to `folder`.
+    ///
+    /// # Errors
+    /// As [`ExperimentConfig::read`].
+    pub fn from_toml_in(text: &str, name: &str, folder: &Path) -> Result<Self> {
+        let refuse = |e: toml::de::Error| {
+            Error::field(name, "toml", e.to_string().trim().replace('\n', " "))
+        };
+        let mut document: toml::Table = toml::from_str(text).map_err(refuse)?;
+        // Without settings files the text is read directly, so errors keep their line and column.
+        let config: Self = if settings_file::any(&document) {
+            settings_file::resolve(&mut document, folder, name)?;
+            document.try_into().map_err(refuse)?
+        } else {
+            toml::from_str(text).map_err(refuse)?
+        };
         config.validate()?;
         Ok(config)
     }
@@ -265,7 +292,19 @@ impl ExperimentConfig {
         self.validate_sweep(&component)?;
         self.validate_labels(&component)?;
         self.executor.settings.validate()?;
-        for policy in &self.policies {
+        for (index, policy) in self.policies.iter().enumerate() {
+            if policy.settings_file.is_some() {
+                return Err(Error::field(
+                    component,
+                    "policies.settings_file",
+                    format!(
+                        "policy {} names a settings file that was not read: configurations \
+                         are read with `ExperimentConfig::read` or `from_toml`, which merge it \
+                         into `settings`",
+                        index + 1
+                    ),
+                ));
+            }
             policy.settings.validate()?;
         }
         Ok(())

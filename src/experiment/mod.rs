@@ -16,6 +16,7 @@ pub mod log;
 mod push_comparison;
 mod report;
 mod runner;
+mod settings_file;
 mod sweep;
 pub mod tables;
 

@@ -146,7 +146,10 @@ impl Variant {
 }
 
 /// `over` laid onto `base`: tables merged key by key, anything else replaced.
-fn lay_over(base: &mut serde_json::Value, over: &serde_json::Map<String, serde_json::Value>) {
+pub(super) fn lay_over(
+    base: &mut serde_json::Value,
+    over: &serde_json::Map<String, serde_json::Value>,
+) {
     let serde_json::Value::Object(base) = base else {
         *base = serde_json::Value::Object(over.clone());
         return;
