@@ -292,19 +292,8 @@ impl ExperimentConfig {
         self.validate_sweep(&component)?;
         self.validate_labels(&component)?;
         self.executor.settings.validate()?;
-        for (index, policy) in self.policies.iter().enumerate() {
-            if policy.settings_file.is_some() {
-                return Err(Error::field(
-                    component,
-                    "policies.settings_file",
-                    format!(
-                        "policy {} names a settings file that was not read: configurations \
-                         are read with `ExperimentConfig::read` or `from_toml`, which merge it \
-                         into `settings`",
-                        index + 1
-                    ),
-                ));
-            }
+        settings_file::refuse_unread(&self.policies, &component)?;
+        for policy in &self.policies {
             policy.settings.validate()?;
         }
         Ok(())

@@ -10,6 +10,7 @@
 
 use std::path::Path;
 
+use super::config::PolicyConfig;
 use super::sweep::lay_over;
 use crate::error::{Error, Result};
 use crate::policy::PolicySettings;
@@ -19,16 +20,33 @@ pub(super) const KEY: &str = "settings_file";
 
 /// Whether any policy entry of the parsed document names a settings file.
 pub(super) fn any(document: &toml::Table) -> bool {
-    entries(document).any(|entry| entry.contains_key(KEY))
-}
-
-fn entries(document: &toml::Table) -> impl Iterator<Item = &toml::Table> {
     document
         .get("policies")
         .and_then(toml::Value::as_array)
         .into_iter()
         .flatten()
         .filter_map(toml::Value::as_table)
+        .any(|entry| entry.contains_key(KEY))
+}
+
+/// Refuses a configuration that still names a settings file: one built without reading it through
+/// [`resolve`] (`ExperimentConfig::read` or `from_toml`), whose `settings` would lack the file's.
+///
+/// # Errors
+/// [`Error::InvalidField`] naming the first such policy.
+pub(super) fn refuse_unread(policies: &[PolicyConfig], component: &str) -> Result<()> {
+    match policies.iter().position(|p| p.settings_file.is_some()) {
+        None => Ok(()),
+        Some(index) => Err(Error::field(
+            component,
+            "policies.settings_file",
+            format!(
+                "policy {} names a settings file that was not read: configurations are read \
+                 with `ExperimentConfig::read` or `from_toml`, which merge it into `settings`",
+                index + 1
+            ),
+        )),
+    }
 }
 
 /// Replaces every `settings_file` of `document`'s policies by the file's settings with the entry's
