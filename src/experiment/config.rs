@@ -292,7 +292,8 @@ impl ExperimentConfig {
         self.validate_sweep(&component)?;
         self.validate_labels(&component)?;
         self.executor.settings.validate()?;
-        settings_file::refuse_unread(&self.policies, &component)?;
+        let files = self.policies.iter().map(|p| p.settings_file.as_deref());
+        settings_file::refuse_unread(files, &component)?;
         for policy in &self.policies {
             policy.settings.validate()?;
         }

@@ -10,7 +10,6 @@
 
 use std::path::Path;
 
-use super::config::PolicyConfig;
 use super::sweep::lay_over;
 use crate::error::{Error, Result};
 use crate::policy::PolicySettings;
@@ -29,13 +28,17 @@ pub(super) fn any(document: &toml::Table) -> bool {
         .any(|entry| entry.contains_key(KEY))
 }
 
-/// Refuses a configuration that still names a settings file: one built without reading it through
-/// [`resolve`] (`ExperimentConfig::read` or `from_toml`), whose `settings` would lack the file's.
+/// Refuses a configuration whose policies (their `settings_file`s, in order) still name a settings
+/// file: one built without reading it through [`resolve`] (`ExperimentConfig::read` or
+/// `from_toml`), whose `settings` would lack the file's.
 ///
 /// # Errors
 /// [`Error::InvalidField`] naming the first such policy.
-pub(super) fn refuse_unread(policies: &[PolicyConfig], component: &str) -> Result<()> {
-    match policies.iter().position(|p| p.settings_file.is_some()) {
+pub(super) fn refuse_unread<'a>(
+    files: impl IntoIterator<Item = Option<&'a str>>,
+    component: &str,
+) -> Result<()> {
+    match files.into_iter().position(|file| file.is_some()) {
         None => Ok(()),
         Some(index) => Err(Error::field(
             component,
