@@ -689,3 +689,31 @@ fn camera_settings_are_checked_and_noiseless_silences_the_depth_noise() {
         (0.0, 0.0, 0.0)
     );
 }
+
+/// `experiments/data/rows-with-riders.json` (read by `examples/rows_with_riders.rs` and the MuJoCo
+/// example `mujoco_rows.py`): every entry is a valid scene, the rider is an object of it outside the
+/// row, and the rider's row is the grasp's.
+#[test]
+fn the_rows_with_riders_file_holds_valid_scenes_riders_and_grasps() {
+    #[derive(serde::Deserialize)]
+    struct Entry {
+        scene: Scene,
+        rider: pushmog::plan::Rider,
+        grasp: Grasp,
+    }
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/experiments/data/rows-with-riders.json"
+    );
+    let entries: Vec<Entry> =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert!(!entries.is_empty());
+    for entry in &entries {
+        let ids: Vec<ObjectId> = entry.scene.objects().iter().map(|o| o.id).collect();
+        assert!(ids.contains(&entry.rider.object));
+        assert!(!entry.grasp.objects.contains(&entry.rider.object));
+        assert!(entry.grasp.objects.iter().all(|id| ids.contains(id)));
+        assert_eq!(entry.rider.on, entry.grasp.objects);
+        assert_eq!(entry.rider.pick.objects, vec![entry.rider.object]);
+    }
+}

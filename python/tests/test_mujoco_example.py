@@ -224,3 +224,22 @@ def test_a_rider_put_down_on_a_row_rides_its_grasp_and_the_sideways_carry():
     carried, landed = world.grasp(grasp, np.zeros(3))
     assert not landed and sorted(carried) == [0, 1, 2]
     assert world.placed == []
+
+
+def test_mujoco_rows_carries_a_rider_that_rapier_turns_off(tmp_path, capsys):
+    # The first row of experiments/data/rows-with-riders.json: a row rapier turned in the jaws.
+    # MuJoCo, with its no-slip passes, holds it still and carries the rider
+    # (formulations/stacking.md, "Rows turning in the jaws").
+    load_example()
+    path = EXAMPLE.with_name("mujoco_rows.py")
+    spec = importlib.util.spec_from_file_location("mujoco_rows", path)
+    rows = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rows)
+    entries = json.loads(rows.DEFAULT_FILE.read_text())
+    one = tmp_path / "one-row.json"
+    one.write_text(json.dumps(entries[:1]))
+    assert entries[0]["source"]["rapier_turn_degrees"] >= 4
+    assert rows.main(["--file", str(one), "--runs", "1"]) == 0
+    printed = capsys.readouterr().out
+    assert "All rows: rider carried 1/1, row carried whole 1/1, landed 0" in printed
+    assert rows.main(["--file", str(tmp_path / "missing.json")]) == 2
