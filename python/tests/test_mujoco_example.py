@@ -228,8 +228,8 @@ def test_a_rider_put_down_on_a_row_rides_its_grasp_and_the_sideways_carry():
 
 def test_mujoco_rows_carries_a_rider_that_rapier_turns_off(tmp_path, capsys):
     # The first row of experiments/data/rows-with-riders.json: a row rapier turned in the jaws.
-    # MuJoCo, with its no-slip passes, holds it still and carries the rider
-    # (formulations/stacking.md, "Rows turning in the jaws").
+    # MuJoCo, with its no-slip passes, carries the row and its rider, as the quasi-static checks
+    # say (formulations/stacking.md, "Rows turning in the jaws").
     load_example()
     path = EXAMPLE.with_name("mujoco_rows.py")
     spec = importlib.util.spec_from_file_location("mujoco_rows", path)
