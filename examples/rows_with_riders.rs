@@ -42,6 +42,15 @@ struct Tally {
     landed: usize,
 }
 
+impl Tally {
+    fn add(&mut self, other: &Tally) {
+        self.runs += other.runs;
+        self.rider_carried += other.rider_carried;
+        self.row_carried += other.row_carried;
+        self.landed += other.landed;
+    }
+}
+
 fn run(entry: &Entry, seed: u64, tally: &mut Tally) -> pushmog::Result<()> {
     let mut sim = Sim::new(SimSettings::default(), seed)?;
     sim.reset(&entry.scene)?;
@@ -102,10 +111,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             tally.runs,
             tally.landed
         );
-        total.runs += tally.runs;
-        total.rider_carried += tally.rider_carried;
-        total.row_carried += tally.row_carried;
-        total.landed += tally.landed;
+        total.add(&tally);
     }
     println!(
         "\nAll rows: rider carried {}/{}, row carried whole {}/{}, landed {}",

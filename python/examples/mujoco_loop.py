@@ -535,6 +535,12 @@ def agreement(pairs: list) -> dict:
     return dict(sorted(table.items()))
 
 
+def actuation(sim: dict, rng: np.random.Generator) -> np.ndarray:
+    """An actuation error as pushmog's simulator draws one: planar offset (x, y) and yaw."""
+    position, yaw = sim["actuation_position"], sim["actuation_yaw"]
+    return np.array([rng.normal(0, position), rng.normal(0, position), rng.normal(0, yaw)])
+
+
 def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise: bool, log=print) -> dict:
     """Runs the loop on one scene; returns the trips and figures."""
     sim = pushmog.default_settings("sim")
@@ -558,7 +564,7 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
             continue
         offset = np.zeros(3)
         if noise:
-            offset = np.array([rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_position"]), rng.normal(0, sim["actuation_yaw"])])
+            offset = actuation(sim, rng)
         # As pushmog's own loop: push; after any pushes look again and plan the rest of the trip
         # on what is seen (corrective pushes for at most run.max_corrections rounds, the grasp).
         run = planner.settings["run"]

@@ -30,20 +30,14 @@ import pushmog
 DEFAULT_FILE = Path(__file__).resolve().parents[2] / "experiments" / "data" / "rows-with-riders.json"
 
 
-def actuation(sim: dict, rng: np.random.Generator) -> np.ndarray:
-    """An actuation error as pushmog's simulator draws one per action: planar offset and yaw."""
-    position, yaw = sim["actuation_position"], sim["actuation_yaw"]
-    return np.array([rng.normal(0, position), rng.normal(0, position), rng.normal(0, yaw)])
-
-
 def run(entry: dict, sim: dict, seed: int) -> tuple:
     """One run of a row: (rider carried, row carried whole, a pad came down on an object)."""
     rng = np.random.default_rng(seed)
     world = mujoco_loop.World(pushmog.Scene.from_dict(entry["scene"]), sim)
-    if world.place(entry["rider"], actuation(sim, rng)):
+    if world.place(entry["rider"], mujoco_loop.actuation(sim, rng)):
         return False, False, True
     grasp = pushmog.Grasp.from_dict(entry["grasp"])
-    carried, landed = world.grasp(grasp, actuation(sim, rng))
+    carried, landed = world.grasp(grasp, mujoco_loop.actuation(sim, rng))
     row = entry["grasp"]["objects"]
     return entry["rider"]["object"] in carried, all(i in carried for i in row), landed
 
