@@ -229,6 +229,58 @@ fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
     assert_ne!(held(&along, &by_the_bottom), Some(2));
 }
 
+/// `multi.centre_along_axis`: a long row that nearly fills the open jaws, suggested off its middle
+/// along the closing axis, is grasped with the plates as far from the row on one side as on the
+/// other, which is the most room either plate can have for that row; without the setting the
+/// suggestion is taken where it is.
+#[test]
+fn centring_along_the_axis_balances_the_plates_on_a_long_row() {
+    // Two 33 mm squares 1 mm apart: 67 mm along x, in 75 mm between the open plates.
+    let s = scene(vec![
+        object(0, square(0.033), 0.2, 0.2),
+        object(1, square(0.033), 0.234, 0.2),
+    ]);
+    let middle = 0.217;
+    let hint = JawPose {
+        center: Point2::new(middle + 0.0005, 0.2),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    let both = [ObjectId(0), ObjectId(1)];
+    let gaps = |jaws: &JawPose| {
+        jaws.plates(s.gripper()).map(|plate| {
+            (0..2)
+                .map(|i| pushmog::geometry::distance(&plate, s.world_polygon(i)))
+                .fold(f64::INFINITY, f64::min)
+        })
+    };
+    let grasp_with = |centre: bool| {
+        let planner = MultiObject::new(
+            pushmog::grasp::MultiObjectSettings {
+                centre_along_axis: centre,
+                ..pushmog::grasp::MultiObjectSettings::default()
+            },
+            Problem::shared_default(),
+        )
+        .unwrap();
+        planner
+            .plan_request(&GraspRequest::new(&s, &both).hints(&[hint]))
+            .unwrap()
+            .value
+            .expect("the row is grasped")
+    };
+    let as_suggested = grasp_with(false);
+    let centred = grasp_with(true);
+    assert_eq!(as_suggested.objects.len(), 2);
+    assert_eq!(centred.objects.len(), 2);
+    let [a, b] = gaps(&as_suggested.jaws);
+    let [c, d] = gaps(&centred.jaws);
+    assert!((c - d).abs() < 1e-9, "{c} {d}");
+    assert!((c - 0.004).abs() < 1e-9, "{c}");
+    assert!(c.min(d) >= a.min(b), "{a} {b} {c} {d}");
+    assert!((centred.jaws.center.y - as_suggested.jaws.center.y).abs() < 1e-12);
+}
+
 #[test]
 fn two_squares_side_by_side_are_held_together() {
     let s = scene(vec![

@@ -13,7 +13,9 @@
 //! **Screening** (cheap, every candidate): the open plates must keep `clearance_sigmas` standard
 //! deviations of the noise from every object, the ones to be grasped included (noise must not put a
 //! plate on an object; a pushed object counts its push error too), and
-//! the caught objects must slide into one row between the plates, with at least one target.
+//! the caught objects must slide into one row between the plates, with at least one target. With
+//! `centre_along_axis` each candidate is first moved along its closing axis to the middle of what it
+//! catches (`formulations/grasping.md`, "Grasps that come down on a row").
 //!
 //! **Judging** (the outcome model, [`GraspOutcome`], on the most promising candidates only): by
 //! default the planar mechanics of `closing/` on the observed table and on `samples − 1` noisy
@@ -223,12 +225,12 @@ impl MultiObject {
     ) -> Vec<Screened> {
         let scene = request.scene;
         let mut screened: Vec<Screened> = Vec::new();
-        for jaws in candidates {
-            if request.avoid.iter().any(|a| a.same_place(jaws)) {
+        for candidate in candidates {
+            if request.avoid.iter().any(|a| a.same_place(candidate)) {
                 *refusals.entry("failed before").or_default() += 1;
                 continue;
             }
-            let caught = match row_in_scene(scene, jaws, self.problem.grasp_model()) {
+            let caught = match row_in_scene(scene, candidate, self.problem.grasp_model()) {
                 Ok(caught) => caught,
                 Err(refusal) => {
                     *refusals.entry(refusal_name(&refusal)).or_default() += 1;
@@ -243,6 +245,14 @@ impl MultiObject {
                 *refusals.entry("too few objects").or_default() += 1;
                 continue;
             }
+            let hinted = request.hints.iter().any(|h| h.same_place(candidate));
+            let centred = self
+                .settings
+                .centre_along_axis
+                .then(|| self.centred(scene, candidate, &caught, pushed))
+                .flatten()
+                .filter(|c| !request.avoid.iter().any(|a| a.same_place(c)));
+            let jaws = centred.as_ref().unwrap_or(candidate);
             if self.too_near_the_edge(scene, &caught, jaws) {
                 *refusals.entry("near the workspace edge").or_default() += 1;
                 continue;
@@ -255,7 +265,7 @@ impl MultiObject {
                 continue;
             }
             screened.push(Screened {
-                hinted: request.hints.iter().any(|h| h.same_place(jaws)),
+                hinted,
                 jaws: *jaws,
                 offset: centre_line_offset(scene, jaws, &caught),
                 caught: sorted,
@@ -388,6 +398,38 @@ impl MultiObject {
                 .iter()
                 .any(|d| workspace.room_along(v, d) < margin)
         })
+    }
+
+    /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it, when the
+    /// move catches the same objects and keeps the plates clear enough of everything; `None`
+    /// otherwise (`centre_along_axis`).
+    fn centred(
+        &self,
+        scene: &Scene,
+        jaws: &JawPose,
+        caught: &[usize],
+        pushed: &[usize],
+    ) -> Option<JawPose> {
+        let axis = jaws.axis();
+        let (low, high) = caught
+            .iter()
+            .map(|&i| scene.world_polygon(i).projection(&axis))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            });
+        let shift = (low + high) / 2.0 - jaws.center.coords.dot(&axis);
+        if !shift.is_finite() || shift.abs() < 1e-6 {
+            return None;
+        }
+        let moved = JawPose {
+            center: jaws.center + axis * shift,
+            ..*jaws
+        };
+        let mut same = row_in_scene(scene, &moved, self.problem.grasp_model()).ok()?;
+        let mut before = caught.to_vec();
+        same.sort_unstable();
+        before.sort_unstable();
+        (same == before && self.clearance(scene, &moved, pushed).1).then_some(moved)
     }
 
     /// The gap between the open plates and the nearest object (capped), and whether every object
