@@ -229,56 +229,73 @@ fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
     assert_ne!(held(&along, &by_the_bottom), Some(2));
 }
 
-/// `multi.centre_along_axis`: a long row that nearly fills the open jaws, suggested off its middle
-/// along the closing axis, is grasped with the plates as far from the row on one side as on the
-/// other, which is the most room either plate can have for that row; without the setting the
-/// suggestion is taken where it is.
+/// `multi.centre_along_axis`: a row suggested 3 mm off its middle along the closing axis is grasped
+/// at the middle, both plates 7.5 mm from it, the most room the nearer plate can have. With a
+/// neighbour so near that the middle would put a plate 2.25 mm from it (under the 1.5 σ of
+/// screening), no grasp along that axis is moved there: the grasp taken keeps its plates 1.5 σ
+/// from the neighbour.
 #[test]
-fn centring_along_the_axis_balances_the_plates_on_a_long_row() {
-    // Two 33 mm squares 1 mm apart: 67 mm along x, in 75 mm between the open plates.
-    let s = scene(vec![
-        object(0, square(0.033), 0.2, 0.2),
-        object(1, square(0.033), 0.234, 0.2),
-    ]);
-    let middle = 0.217;
+fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() {
+    // Two 29.5 mm squares 1 mm apart: 60 mm along x, in 75 mm between the open plates.
+    let row = || {
+        vec![
+            object(0, square(0.0295), 0.2, 0.2),
+            object(1, square(0.0295), 0.2305, 0.2),
+        ]
+    };
+    let middle = Point2::new(0.21525, 0.2);
     let hint = JawPose {
-        center: Point2::new(middle + 0.0005, 0.2),
+        center: Point2::new(middle.x - 0.003, middle.y),
         angle: 0.0,
         opening: 0.085,
     };
     let both = [ObjectId(0), ObjectId(1)];
-    let gaps = |jaws: &JawPose| {
-        jaws.plates(s.gripper()).map(|plate| {
-            (0..2)
-                .map(|i| pushmog::geometry::distance(&plate, s.world_polygon(i)))
-                .fold(f64::INFINITY, f64::min)
-        })
-    };
-    let grasp_with = |centre: bool| {
-        let planner = MultiObject::new(
-            pushmog::grasp::MultiObjectSettings {
-                centre_along_axis: centre,
-                ..pushmog::grasp::MultiObjectSettings::default()
-            },
-            Problem::shared_default(),
-        )
-        .unwrap();
+    let planner = MultiObject::new(
+        pushmog::grasp::MultiObjectSettings {
+            centre_along_axis: true,
+            ..pushmog::grasp::MultiObjectSettings::default()
+        },
+        Problem::shared_default(),
+    )
+    .unwrap();
+    let grasp = |s: &Scene| {
         planner
-            .plan_request(&GraspRequest::new(&s, &both).hints(&[hint]))
+            .plan_request(&GraspRequest::new(s, &both).hints(&[hint]))
             .unwrap()
             .value
             .expect("the row is grasped")
     };
-    let as_suggested = grasp_with(false);
-    let centred = grasp_with(true);
-    assert_eq!(as_suggested.objects.len(), 2);
+    let gaps = |s: &Scene, jaws: &JawPose, objects: &[usize]| {
+        jaws.plates(s.gripper()).map(|plate| {
+            objects
+                .iter()
+                .map(|&i| pushmog::geometry::distance(&plate, s.world_polygon(i)))
+                .fold(f64::INFINITY, f64::min)
+        })
+    };
+
+    let alone = scene(row());
+    let centred = grasp(&alone);
     assert_eq!(centred.objects.len(), 2);
-    let [a, b] = gaps(&as_suggested.jaws);
-    let [c, d] = gaps(&centred.jaws);
-    assert!((c - d).abs() < 1e-9, "{c} {d}");
-    assert!((c - 0.004).abs() < 1e-9, "{c}");
-    assert!(c.min(d) >= a.min(b), "{a} {b} {c} {d}");
-    assert!((centred.jaws.center.y - as_suggested.jaws.center.y).abs() < 1e-12);
+    assert!(
+        (centred.jaws.center - middle).norm() < 1e-9,
+        "{:?}",
+        centred.jaws
+    );
+    for gap in gaps(&alone, &centred.jaws, &[0, 1]) {
+        assert!((gap - 0.0075).abs() < 1e-9, "{gap}");
+    }
+
+    // A third square whose left side is 2.25 mm beyond where the right plate's outer face would
+    // stand with the jaws at the middle.
+    let mut crowded = row();
+    crowded.push(object(2, square(0.0295), 0.27475, 0.2));
+    let crowded = scene(crowded);
+    let kept = grasp(&crowded);
+    assert_eq!(kept.objects.len(), 2);
+    let [left, right] = gaps(&crowded, &kept.jaws, &[2]);
+    let sigma = pushmog::grasp::Noise::default().position_sigma(false);
+    assert!(left.min(right) >= 1.5 * sigma - 1e-12, "{left} {right}");
 }
 
 #[test]

@@ -4,9 +4,10 @@ came down on a row member, by how far the nearer plate stood from the row on the
 (formulations/grasping.md, "Grasps that come down on a row").
 
 Each run is replayed with `pushmog run` on its scene and logged run seed, with the given settings
-(push-mog-opt is the base policy, as in the logs). With the settings the log ran, every replay gives
-the log's trips; with other settings (for example `multi.centre_along_axis`) the runs are paired
-with the log's by scene and run seed.
+(push-mog-opt is the base policy, as in the logs); it prints how many replays gave the log's trip
+count (all 400 push-mog-time runs of stacking-unseen did, with the settings they ran). Replays
+with other settings (for example `multi.centre_along_axis`) pair with those, run for run
+(`--paired-with`).
 
 For every multi-object grasp planned on an observed table (not after pushes in the same trip), the
 gap is the least distance between an open plate and a member of the row, on the table the grasp was
@@ -14,6 +15,8 @@ planned on. A grasp came down on a member when its trip records a fault during t
 the row's objects.
 
     cargo build --release
+    # riders.json: experiments/push-mog-time.json with "riders": {"enabled": true};
+    # centred.json: the same with "multi": {..., "centre_along_axis": true}
     python3 experiments/calibration/landings.py --log experiments/results/stacking-unseen.jsonl \\
         --policy push-mog-time-riders --settings riders.json --out base.json
     python3 experiments/calibration/landings.py ... --settings centred.json --out centred.json \\
