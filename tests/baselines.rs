@@ -229,11 +229,11 @@ fn an_edge_margin_keeps_pairs_near_the_edge_apart() {
     assert_ne!(held(&along, &by_the_bottom), Some(2));
 }
 
-/// `multi.centre_along_axis`: a row suggested 3 mm off its middle along the closing axis is grasped
-/// at the middle, both plates 7.5 mm from it, the most room the nearer plate can have. With a
-/// neighbour so near that the middle would put a plate 2.25 mm from it (under the 1.5 σ of
-/// screening), no grasp along that axis is moved there: the grasp taken keeps its plates 1.5 σ
-/// from the neighbour.
+/// `multi.centre_along_axis`: a row suggested 3 mm off its middle along the closing axis, grasped
+/// there without the setting, is grasped at the middle with it, both plates 7.5 mm from the row,
+/// the most room the nearer plate can have. With a neighbour so near that the middle would put a
+/// plate 2.25 mm from it (under the 1.5 σ of screening), no grasp is moved there: the grasp taken
+/// keeps its plates 1.5 σ from the neighbour.
 #[test]
 fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() {
     // Two 29.5 mm squares 1 mm apart: 60 mm along x, in 75 mm between the open plates.
@@ -250,21 +250,24 @@ fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() 
         opening: 0.085,
     };
     let both = [ObjectId(0), ObjectId(1)];
-    let planner = MultiObject::new(
-        pushmog::grasp::MultiObjectSettings {
-            centre_along_axis: true,
-            ..pushmog::grasp::MultiObjectSettings::default()
-        },
-        Problem::shared_default(),
-    )
-    .unwrap();
-    let grasp = |s: &Scene| {
-        planner
+    let planner = |centre: bool| {
+        MultiObject::new(
+            pushmog::grasp::MultiObjectSettings {
+                centre_along_axis: centre,
+                ..pushmog::grasp::MultiObjectSettings::default()
+            },
+            Problem::shared_default(),
+        )
+        .unwrap()
+    };
+    let grasp_with = |centre: bool, s: &Scene| {
+        planner(centre)
             .plan_request(&GraspRequest::new(s, &both).hints(&[hint]))
             .unwrap()
             .value
             .expect("the row is grasped")
     };
+    let grasp = |s: &Scene| grasp_with(true, s);
     let gaps = |s: &Scene, jaws: &JawPose, objects: &[usize]| {
         jaws.plates(s.gripper()).map(|plate| {
             objects
@@ -275,6 +278,12 @@ fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() 
     };
 
     let alone = scene(row());
+    let as_suggested = grasp_with(false, &alone);
+    assert!(
+        (as_suggested.jaws.center - hint.center).norm() < 1e-12,
+        "{:?}",
+        as_suggested.jaws
+    );
     let centred = grasp(&alone);
     assert_eq!(centred.objects.len(), 2);
     assert!(
