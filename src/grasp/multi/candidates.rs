@@ -1,11 +1,13 @@
 //! Candidate jaws of the multi-object planner: a grid of centres over the targets' hull, closing
-//! angles from the targets' edges, and for each angle the centre that fits the targets best.
+//! angles from the targets' edges, and for each angle the centre that fits the targets best; and a
+//! candidate moved to the middle of what it catches (`centre_along_axis`).
 
 use nalgebra::{Point2, Vector2};
 
 use super::MultiObject;
 use crate::geometry::{ConvexPolygon, convex_hull, point_bounds};
 use crate::grasp::JawPose;
+use crate::grasp::model::row_in_scene;
 use crate::scene::Scene;
 
 impl MultiObject {
@@ -66,6 +68,36 @@ impl MultiObject {
             }
         }
         poses
+    }
+
+    /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it (scene
+    /// indices, sorted), when the move catches the same objects and keeps the plates clear enough of
+    /// everything; `None` otherwise (`centre_along_axis`).
+    pub(super) fn centred(
+        &self,
+        scene: &Scene,
+        jaws: &JawPose,
+        caught: &[usize],
+        pushed: &[usize],
+    ) -> Option<JawPose> {
+        let axis = jaws.axis();
+        let (low, high) = caught
+            .iter()
+            .map(|&i| scene.world_polygon(i).projection(&axis))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            });
+        let shift = (low + high) / 2.0 - jaws.center.coords.dot(&axis);
+        if !shift.is_finite() || shift.abs() < 1e-6 {
+            return None;
+        }
+        let moved = JawPose {
+            center: jaws.center + axis * shift,
+            ..*jaws
+        };
+        let mut same = row_in_scene(scene, &moved, self.problem.grasp_model()).ok()?;
+        same.sort_unstable();
+        (same == caught && self.clearance(scene, &moved, pushed).1).then_some(moved)
     }
 
     fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {

@@ -245,11 +245,13 @@ impl MultiObject {
                 *refusals.entry("too few objects").or_default() += 1;
                 continue;
             }
+            let mut sorted = caught.clone();
+            sorted.sort_unstable();
             let hinted = request.hints.iter().any(|h| h.same_place(candidate));
             let centred = self
                 .settings
                 .centre_along_axis
-                .then(|| self.centred(scene, candidate, &caught, pushed))
+                .then(|| self.centred(scene, candidate, &sorted, pushed))
                 .flatten()
                 .filter(|c| !request.avoid.iter().any(|a| a.same_place(c)));
             let jaws = centred.as_ref().unwrap_or(candidate);
@@ -257,8 +259,6 @@ impl MultiObject {
                 *refusals.entry("near the workspace edge").or_default() += 1;
                 continue;
             }
-            let mut sorted = caught.clone();
-            sorted.sort_unstable();
             let (clearance, enough) = self.clearance(scene, jaws, pushed);
             if !enough {
                 *refusals.entry("plates too close").or_default() += 1;
@@ -398,38 +398,6 @@ impl MultiObject {
                 .iter()
                 .any(|d| workspace.room_along(v, d) < margin)
         })
-    }
-
-    /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it, when the
-    /// move catches the same objects and keeps the plates clear enough of everything; `None`
-    /// otherwise (`centre_along_axis`).
-    fn centred(
-        &self,
-        scene: &Scene,
-        jaws: &JawPose,
-        caught: &[usize],
-        pushed: &[usize],
-    ) -> Option<JawPose> {
-        let axis = jaws.axis();
-        let (low, high) = caught
-            .iter()
-            .map(|&i| scene.world_polygon(i).projection(&axis))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
-                (lo.min(a), hi.max(b))
-            });
-        let shift = (low + high) / 2.0 - jaws.center.coords.dot(&axis);
-        if !shift.is_finite() || shift.abs() < 1e-6 {
-            return None;
-        }
-        let moved = JawPose {
-            center: jaws.center + axis * shift,
-            ..*jaws
-        };
-        let mut same = row_in_scene(scene, &moved, self.problem.grasp_model()).ok()?;
-        let mut before = caught.to_vec();
-        same.sort_unstable();
-        before.sort_unstable();
-        (same == before && self.clearance(scene, &moved, pushed).1).then_some(moved)
     }
 
     /// The gap between the open plates and the nearest object (capped), and whether every object
