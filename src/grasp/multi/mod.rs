@@ -214,7 +214,9 @@ impl MultiObject {
     /// target and at least `min_objects`, not where a grasp failed before, no object of several
     /// near the edge, the plates clear of the rest. Ranked by most objects, then the caller's
     /// suggestions (the jaws a row was pushed for), then nearest the plates' centre line, then most
-    /// clearance.
+    /// clearance. A candidate counts as suggested when it stands in the same place as a hint
+    /// ([`JawPose::same_place`]: within 3 mm, 5° and 3 mm of opening), so a candidate beside the
+    /// hint that lies nearer the centre line, or has more clearance, ranks above the hint itself.
     fn screen(
         &self,
         request: &GraspRequest<'_>,
