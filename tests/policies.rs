@@ -83,7 +83,7 @@ fn every_plan_of_every_policy_verifies_on_10_scenes() {
 /// The acceptance sweep, 1 200 closed-loop runs (about 9 minutes on 2 cores in the test profile):
 /// statistical, so it runs with `cargo test -- --ignored`, as CI does. Its runs of the first 20
 /// scenes also give the comparison of means that pushing must win: push-mog carries more objects
-/// per trip than mog (the same runs a separate test made before).
+/// per trip than mog.
 #[test]
 #[ignore = "statistical: cargo test -- --ignored"]
 fn every_plan_of_every_policy_verifies_on_200_scenes_and_pushing_raises_objects_per_trip() {
