@@ -57,16 +57,12 @@ fn every_policy_verifies(scenes: u64) -> Vec<(PolicyKind, Vec<f64>)> {
             .map(|h| h.join().expect("a sweep thread panicked"))
             .collect()
     });
-    let failures: Vec<&String> = results.iter().flat_map(|(_, f, _)| f).collect();
+    let failures: Vec<String> = results.iter().flat_map(|(_, f, _)| f.clone()).collect();
     assert!(
         failures.is_empty(),
         "{} failures:\n{}",
         failures.len(),
-        failures
-            .iter()
-            .map(|f| f.as_str())
-            .collect::<Vec<_>>()
-            .join("\n")
+        failures.join("\n")
     );
     results
         .into_iter()

@@ -71,14 +71,13 @@ impl MultiObject {
     }
 
     /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it (scene
-    /// indices, sorted), when the move catches the same objects and keeps the plates clear enough of
-    /// everything; `None` otherwise (`centre_along_axis`).
+    /// indices, sorted), when the move catches the same objects; `None` otherwise
+    /// (`centre_along_axis`). The caller checks the moved plates' clearance.
     pub(super) fn centred(
         &self,
         scene: &Scene,
         jaws: &JawPose,
         caught: &[usize],
-        pushed: &[usize],
     ) -> Option<JawPose> {
         let axis = jaws.axis();
         let (low, high) = caught
@@ -97,7 +96,7 @@ impl MultiObject {
         };
         let mut same = row_in_scene(scene, &moved, self.problem.grasp_model()).ok()?;
         same.sort_unstable();
-        (same == caught && self.clearance(scene, &moved, pushed).1).then_some(moved)
+        (same == caught).then_some(moved)
     }
 
     fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {
