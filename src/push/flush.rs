@@ -40,7 +40,7 @@
 
 use nalgebra::{Point2, Vector2};
 
-use crate::geometry::ConvexPolygon;
+use crate::geometry::{ConvexPolygon, cast_distance};
 use crate::scene::{Gripper, Scene};
 
 /// Gap between the plates when pushing with the gripper closed, metres.
@@ -150,33 +150,51 @@ const SEARCH_STEP: f64 = 0.0005;
 /// about its centroid) is pushed along `direction` and the member at `fixed` (outline `staying`)
 /// stays: the direction from `fixed` to where the pushed centroid stops, for the shortest push (of
 /// at most `longest`, searched in 0.5 mm steps) after which the two, centroids on that line, make a
-/// row that fits (a tight one, with `row.tight`). `None` when no push along `direction` does.
+/// row that fits (a tight one, with `row.tight`), and that push's length. `None` when no push along
+/// `direction` does.
+///
+/// The search ends where the pushed one would first touch the other: a row beyond that point (the
+/// pushed one on the far side of the other) could only be reached by pushing it through the other.
 pub fn pair_axis(
     (pushed, moving): (Point2<f64>, &ConvexPolygon),
     (fixed, staying): (Point2<f64>, &ConvexPolygon),
     direction: &Vector2<f64>,
     row: PairRow,
     longest: f64,
-) -> Option<Vector2<f64>> {
+) -> Option<(Vector2<f64>, f64)> {
     let moving_centre = moving.centroid().coords;
     let staying_centre = staying.centroid().coords;
     let support = |outline: &ConvexPolygon, centre: &Vector2<f64>, d: &Vector2<f64>| {
         outline.support(d) - centre.dot(d)
     };
-    let steps = (longest / SEARCH_STEP).ceil() as usize;
+    let placed =
+        |outline: &ConvexPolygon, at: Point2<f64>| outline.translated(&(at - outline.centroid()));
+    let contact = cast_distance(
+        &placed(moving, pushed),
+        direction,
+        longest,
+        &placed(staying, fixed),
+    );
+    let steps = match contact {
+        Some(contact) if contact < longest => {
+            (contact / SEARCH_STEP).floor() as usize
+        }
+        _ => (longest / SEARCH_STEP).ceil() as usize,
+    };
     (0..=steps).find_map(|k| {
-        let at = pushed + direction * (k as f64 * SEARCH_STEP);
+        let length = k as f64 * SEARCH_STEP;
+        let at = pushed + direction * length;
         let joining = at - fixed;
-        let length = joining.norm();
-        if length <= 0.0 {
+        let between = joining.norm();
+        if between <= 0.0 {
             return None;
         }
-        let axis = joining / length;
+        let axis = joining / between;
         let across = Vector2::new(-axis.y, axis.x);
-        let apart = length
+        let apart = between
             - support(staying, &staying_centre, &axis)
             - support(moving, &moving_centre, &-axis);
-        let span = length
+        let span = between
             + support(moving, &moving_centre, &axis)
             + support(staying, &staying_centre, &-axis);
         let straddles = [(moving, &moving_centre), (staying, &staying_centre)]
@@ -188,7 +206,7 @@ pub fn pair_axis(
         let limit = row.tight.map_or(row.row_limit, |tight| {
             row.row_limit.min(span - apart + tight)
         });
-        (apart >= row.gap && span <= limit && straddles).then_some(axis)
+        (apart >= row.gap && span <= limit && straddles).then_some((axis, length))
     })
 }
 
@@ -275,8 +293,10 @@ mod tests {
             row,
             0.2,
         );
-        let axis = axis.unwrap_or_else(Vector2::zeros);
+        let (axis, length) = axis.unwrap_or_default();
         assert!((axis - Vector2::x()).norm() < 1e-9);
+        // Centroids 35 mm apart: a push of 65 mm, to the 0.5 mm step.
+        assert!((length - 0.065).abs() < SEARCH_STEP);
         // Pushed past it 10 mm to one side: the axis leans toward the side. A leaning axis
         // meets the squares' corners, so the row needs more room than 65 mm: about 44 mm between
         // centroids plus 30·(cos + sin) of the lean, 80 mm in all.
@@ -291,7 +311,7 @@ mod tests {
             roomy,
             0.2,
         )
-        .unwrap_or_else(Vector2::zeros);
+        .map_or_else(Vector2::zeros, |(axis, _)| axis);
         assert!(axis.y > 0.0 && axis.x > 0.9);
         // Tight: on until the two are 3 mm apart, so the row is 63 mm long and the axis the same.
         let tight = PairRow {
@@ -305,7 +325,7 @@ mod tests {
             tight,
             0.2,
         );
-        assert!(straight.is_some_and(|axis| (axis - Vector2::x()).norm() < 1e-9));
+        assert!(straight.is_some_and(|(axis, _)| (axis - Vector2::x()).norm() < 1e-9));
         // Pushed away: never a row.
         assert!(
             pair_axis(
@@ -317,5 +337,62 @@ mod tests {
             )
             .is_none()
         );
+    }
+
+    #[test]
+    fn a_pair_is_never_lined_up_beyond_the_other() {
+        // Two built-in outlines at random poses, each pushed along its faces' inward normals
+        // toward the other: wherever a row is found, the push that makes it is clear of the
+        // other all the way (a row past the other could only be reached through it).
+        let outlines: Vec<ConvexPolygon> = crate::scene::builtin_object_set()
+            .objects
+            .iter()
+            .filter_map(|o| o.polygon().ok())
+            .collect();
+        let row = PairRow {
+            row_limit: 0.065,
+            gap: 0.001,
+            straddle: 0.003,
+            tight: Some(0.003),
+        };
+        let mut rng = crate::random::SeededRng::new(11);
+        let mut rows = 0;
+        for _ in 0..3000 {
+            let place = |rng: &mut crate::random::SeededRng, at: Vector2<f64>| {
+                let outline = &outlines[rng.index(outlines.len())];
+                let yaw = rng.uniform(-std::f64::consts::PI, std::f64::consts::PI);
+                outline
+                    .transformed(&nalgebra::Isometry2::new(Vector2::zeros(), yaw))
+                    .translated(&at)
+            };
+            let staying = place(&mut rng, Vector2::zeros());
+            let angle = rng.uniform(-std::f64::consts::PI, std::f64::consts::PI);
+            let start = Vector2::new(angle.cos(), angle.sin()) * rng.uniform(0.03, 0.12);
+            let moving = place(&mut rng, start);
+            let (pushed, fixed) = (moving.centroid(), staying.centroid());
+            for face in flush_faces(&moving, 0.002) {
+                let direction = face.normal;
+                if direction.dot(&(fixed - pushed)) <= 0.0 {
+                    continue;
+                }
+                let longest = (fixed - pushed).norm() + row.row_limit;
+                let found = pair_axis(
+                    (pushed, &moving),
+                    (fixed, &staying),
+                    &direction,
+                    row,
+                    longest,
+                );
+                if let Some((_, length)) = found {
+                    rows += 1;
+                    let hit = cast_distance(&moving, &direction, length, &staying);
+                    assert!(
+                        hit.is_none_or(|hit| hit >= length - 1e-9),
+                        "a row {length} m along the push, the other met at {hit:?} m"
+                    );
+                }
+            }
+        }
+        assert!(rows > 300, "only {rows} rows found");
     }
 }

@@ -67,7 +67,7 @@ impl Search<'_> {
                         return None;
                     }
                     let longest = towards.norm() + problem.row_limit;
-                    let axis = pair_axis(
+                    let (axis, _) = pair_axis(
                         (starts[m], &outlines[m]),
                         (starts[other], &outlines[other]),
                         &direction,
