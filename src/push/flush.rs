@@ -176,9 +176,7 @@ pub fn pair_axis(
         &placed(staying, fixed),
     );
     let steps = match contact {
-        Some(contact) if contact < longest => {
-            (contact / SEARCH_STEP).floor() as usize
-        }
+        Some(contact) if contact < longest => (contact / SEARCH_STEP).floor() as usize,
         _ => (longest / SEARCH_STEP).ceil() as usize,
     };
     (0..=steps).find_map(|k| {
