@@ -497,6 +497,7 @@ fn the_push_mog_time_settings_file_plans_as_the_experiment_does() {
         "picks-per-hour",
         "picks-per-hour-unseen",
         "picks-per-hour-stopping",
+        "picks-per-hour-unseen-stopping",
         "bin-distance-paired",
     ] {
         let config =
@@ -506,7 +507,7 @@ fn the_push_mog_time_settings_file_plans_as_the_experiment_does() {
             |p: &pushmog::experiment::PolicyConfig| p.label.as_deref() == Some("push-mog-time");
         let index = config.policies.iter().position(label).unwrap();
         let mut used = config.policy_settings(index, None, None).unwrap();
-        if name == "picks-per-hour-stopping" {
+        if name.ends_with("-stopping") {
             assert!(!used.time_model.blend_free_moves);
             used.time_model = settings.time_model.clone();
         }
