@@ -71,14 +71,17 @@ impl MultiObject {
     }
 
     /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it (scene
-    /// indices, sorted), when the move catches the same objects; `None` otherwise
-    /// (`centre_along_axis`). The caller checks the moved plates' clearance.
+    /// indices, sorted), with the moved plates' clearance (`clearance`, `pushed`
+    /// objects kept further from), when the move catches the same objects, stands apart from every
+    /// jaw pose in `avoid` and keeps the plates clear enough; `None` otherwise
+    /// (`centre_along_axis`).
     pub(super) fn centred(
         &self,
         scene: &Scene,
         jaws: &JawPose,
         caught: &[usize],
-    ) -> Option<JawPose> {
+        (avoid, pushed): (&[JawPose], &[usize]),
+    ) -> Option<(JawPose, (f64, bool))> {
         let axis = jaws.axis();
         let (low, high) = caught
             .iter()
@@ -96,7 +99,11 @@ impl MultiObject {
         };
         let mut same = row_in_scene(scene, &moved, self.problem.grasp_model()).ok()?;
         same.sort_unstable();
-        (same == caught).then_some(moved)
+        if same != caught || avoid.iter().any(|a| a.same_place(&moved)) {
+            return None;
+        }
+        let clearance = self.clearance(scene, &moved, pushed);
+        clearance.1.then_some((moved, clearance))
     }
 
     fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {

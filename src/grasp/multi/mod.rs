@@ -250,15 +250,11 @@ impl MultiObject {
             let mut sorted = caught.clone();
             sorted.sort_unstable();
             let hinted = request.hints.iter().any(|h| h.same_place(candidate));
-            // The centred jaws with their clearance, kept only when it is enough.
             let centred = self
                 .settings
                 .centre_along_axis
-                .then(|| self.centred(scene, candidate, &sorted))
-                .flatten()
-                .filter(|c| !request.avoid.iter().any(|a| a.same_place(c)))
-                .map(|c| (c, self.clearance(scene, &c, pushed)))
-                .filter(|(_, (_, enough))| *enough);
+                .then(|| self.centred(scene, candidate, &sorted, (request.avoid, pushed)))
+                .flatten();
             let jaws = centred.as_ref().map_or(candidate, |(c, _)| c);
             if self.too_near_the_edge(scene, &caught, jaws) {
                 *refusals.entry("near the workspace edge").or_default() += 1;
