@@ -1,4 +1,5 @@
-//! Shared helpers: fixture paths, running the command-line binary, and small hand-made scenes.
+//! Shared helpers: fixture paths, running the command-line binary, small hand-made scenes, generated
+//! scenes and whole runs of a preset with plans applied exactly.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -70,4 +71,22 @@ pub fn with_riders() -> pushmog::policy::PolicySettings {
     let mut settings = pushmog::policy::PolicySettings::default();
     settings.riders.enabled = true;
     settings
+}
+
+/// Generated scene `seed` of the default generator settings and object set.
+pub fn scene(seed: u64) -> Scene {
+    pushmog::scene::generate_scene(
+        &pushmog::scene::GeneratorSettings::default(),
+        &pushmog::scene::builtin_object_set(),
+        seed,
+    )
+    .unwrap()
+}
+
+/// A whole run of the preset `kind` with default settings on `scene`, plans applied exactly.
+pub fn run(kind: pushmog::policy::PolicyKind, scene: &Scene, seed: u64) -> pushmog::plan::Plan {
+    let policy =
+        pushmog::policy::Policy::new(kind, pushmog::policy::PolicySettings::default()).unwrap();
+    let mut executor = policy.ideal();
+    policy.run(scene, &mut executor, seed).unwrap()
 }

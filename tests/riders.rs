@@ -1,0 +1,158 @@
+//! Riders (`formulations/stacking.md`): placed on rows where they pay and can ride, refused by the
+//! verifier where they cannot.
+
+use pushmog::plan::{RunStatus, verify};
+use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::scene::Scene;
+
+use crate::support::scene;
+
+/// Riders with plans applied exactly: push-mog-opt with riders puts riders on rows, every plan
+/// verifies (each rider picked clear of its neighbours, let go where its jaws carried it, standing
+/// on the row's top clear of the pads), every rider rides, and the same scenes need fewer trips
+/// than without riders.
+#[test]
+fn riders_ride_on_rows_and_save_trips() {
+    use crate::support::with_riders;
+    let riders = Policy::new(PolicyKind::PushMogOpt, with_riders()).unwrap();
+    let plain = Policy::new(PolicyKind::PushMogOpt, PolicySettings::default()).unwrap();
+    let (mut trips_with, mut trips_without, mut placed) = (0, 0, 0);
+    for seed in 1..=3 {
+        let table = scene(seed);
+        let plan = riders.run(&table, &mut riders.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared), "seed {seed}");
+        assert_eq!(plan.riders_lost(), 0, "seed {seed}");
+        placed += plan.riders_placed();
+        trips_with += plan.trips.len();
+        trips_without += plain
+            .run(&table, &mut plain.ideal(), seed)
+            .unwrap()
+            .trips
+            .len();
+    }
+    assert!(placed > 0);
+    assert!(
+        trips_with < trips_without,
+        "{trips_with} against {trips_without}"
+    );
+}
+
+/// Riders go only on rows whose members' centroids lie within the plates' length of their centre
+/// line, inset by the support margin (`formulations/stacking.md`, "Rows held off their centre"):
+/// checked on the table the riders were chosen on, the last look's after the pushes that follow it.
+#[test]
+fn riders_go_only_on_rows_held_near_the_plates_centre_line() {
+    use pushmog::grasp::centre_line_offset;
+    use pushmog::push::predict;
+    let settings = crate::support::with_riders();
+    let margin = settings.riders.checks.support_margin;
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let mut placed = 0;
+    for seed in 1..=3 {
+        let table = scene(seed);
+        let within = 0.5 * table.gripper().plate_length - margin;
+        let plan = policy.run(&table, &mut policy.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        for trip in plan.trips.iter().filter(|t| !t.plan.riders.is_empty()) {
+            let (seen, start) = trip.last_plan_scene();
+            let seen = Scene::new(seen.to_spec()).unwrap();
+            let predicted = predict(&seen, &trip.plan.pushes[start..]).unwrap();
+            let grasp = &trip.plan.grasp;
+            let members = predicted.indices_of(&grasp.objects).unwrap();
+            let offset = centre_line_offset(&predicted, &grasp.jaws, &members);
+            assert!(
+                offset <= within,
+                "seed {seed}: {offset} m off the centre line"
+            );
+            placed += trip.plan.riders.len();
+        }
+    }
+    assert!(placed > 0);
+}
+
+/// Riders priced in robot time (`formulations/stacking.md`, "Riders priced"): under the
+/// expected-time objective each rider placed saves, by the time model, more than its place action
+/// adds to its trip; a rider that never rides (`carried = 0`) is never placed; a far bin, where a
+/// saved trip is dear, takes riders, and every plan verifies.
+#[test]
+fn riders_are_placed_only_where_they_pay() {
+    use pushmog::policy::{TripObjective, grasp_path, push_paths, rider_paths};
+    let priced = |bin: f64, carried: f64| {
+        let mut settings = crate::support::with_riders();
+        settings.pricing.objective = TripObjective::ExpectedTime;
+        settings.riders.carried = carried;
+        settings.time_model.bin_distance = bin;
+        Policy::new(PolicyKind::PushMogOpt, settings).unwrap()
+    };
+    let mut placed_far = 0;
+    for seed in 1..=2 {
+        let table = scene(seed);
+        let never = priced(0.3, 0.0);
+        let plan = never.run(&table, &mut never.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert_eq!(plan.riders_placed(), 0, "seed {seed}");
+        for bin in [0.3, 4.0] {
+            let policy = priced(bin, 0.967);
+            let plan = policy.run(&table, &mut policy.ideal(), seed).unwrap();
+            assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+            let model = policy.problem().time_model();
+            let gripper = table.gripper();
+            let single = model.nominal_trip_seconds(gripper) + model.look_seconds();
+            for trip in plan.trips.iter().filter(|t| !t.plan.riders.is_empty()) {
+                // The riders were chosen on the last look, with the pushes planned on it.
+                let start = trip.last_plan_scene().1;
+                let pushes = push_paths(&trip.plan.pushes[start..]);
+                let grasp = grasp_path(&trip.plan.grasp, gripper);
+                let riders = rider_paths(&trip.plan.riders, gripper);
+                let placing = model.trip_seconds_with_riders(gripper, &pushes, &riders, &grasp)
+                    - model.trip_seconds(gripper, &pushes, &grasp);
+                assert!(
+                    0.967 * single > placing,
+                    "seed {seed}, bin {bin}: {placing} s"
+                );
+            }
+            if bin > 1.0 {
+                placed_far += plan.riders_placed();
+            }
+        }
+    }
+    assert!(placed_far > 0);
+}
+
+/// The verifier refuses a rider put where it cannot stand, one the trip also grasps, and one let go
+/// where its jaws did not carry it.
+#[test]
+fn the_verifier_refuses_riders_that_cannot_ride() {
+    use crate::support::with_riders;
+    use pushmog::plan::verify_trip;
+    let policy = Policy::new(PolicyKind::PushMogOpt, with_riders()).unwrap();
+    let plan = policy.run(&scene(1), &mut policy.ideal(), 1).unwrap();
+    let trip = plan
+        .trips
+        .iter()
+        .find(|t| !t.plan.riders.is_empty())
+        .expect("a trip with a rider");
+    assert!(verify_trip(trip).is_empty());
+    let broken = |change: &dyn Fn(&mut pushmog::plan::Rider)| {
+        let mut bad = trip.clone();
+        change(&mut bad.plan.riders[0]);
+        verify_trip(&bad)
+    };
+    let off_the_top = broken(&|r| r.place.y += 0.08);
+    assert!(
+        off_the_top.iter().any(|v| v.contains("not over the top")),
+        "{off_the_top:?}"
+    );
+    let grasped = trip.plan.grasp.objects[0];
+    let twice = broken(&|r| r.object = grasped);
+    assert!(
+        twice.iter().any(|v| v.contains("also grasped")),
+        "{twice:?}"
+    );
+    let elsewhere = broken(&|r| r.release.center.x += 0.01);
+    assert!(
+        elsewhere.iter().any(|v| v.contains("not let go where")),
+        "{elsewhere:?}"
+    );
+}
