@@ -8,6 +8,22 @@ use pushmog::scene::Scene;
 
 use crate::support::scene;
 
+/// The runs of every preset with default settings on `scene` (run seed 1): for each, its plans
+/// applied exactly and then in the simulator (seed 3).
+fn every_policy_exactly_and_in_the_simulator(scene: &Scene) -> Vec<(PolicyKind, Plan)> {
+    use pushmog::exec::{Executor, Sim, SimSettings};
+    let mut runs = Vec::new();
+    for kind in PolicyKind::ALL {
+        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
+        let mut ideal = policy.ideal();
+        let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
+        for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
+            runs.push((kind, policy.run(scene, executor, 1).unwrap()));
+        }
+    }
+    runs
+}
+
 /// Two 7 × 50 mm bars stranded 2 mm apart and 1.5° off parallel (what pushing thin bars together can
 /// leave): too close for a plate between them, and a row the grasp model may refuse. Every policy
 /// that may grasp several objects clears them, with plans applied exactly and in the simulator; no
@@ -15,7 +31,6 @@ use crate::support::scene;
 #[test]
 fn stranded_bars_are_cleared_without_identical_retries() {
     use nalgebra::Point2;
-    use pushmog::exec::{Executor, Sim, SimSettings};
     use pushmog::geometry::ConvexPolygon;
     use pushmog::scene::{Gripper, Object, ObjectId, Pose, Workspace};
     let bar = ConvexPolygon::new(vec![
@@ -38,31 +53,25 @@ fn stranded_bars_are_cleared_without_identical_retries() {
         })
         .collect();
     let scene = Scene::from_parts(Workspace::new(0.4, 0.3), Gripper::default(), objects).unwrap();
-    for kind in PolicyKind::ALL {
-        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
-        let mut ideal = policy.ideal();
-        let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
-        for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
-            let plan = policy.run(&scene, executor, 1).unwrap();
-            if kind == PolicyKind::Sog {
-                assert!(matches!(plan.status, RunStatus::Stopped { .. }));
-            } else {
-                assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
-            }
-            assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
-            let failed: Vec<_> = plan
-                .trips
-                .iter()
-                .filter(|t| t.carried.is_empty())
-                .map(|t| t.plan.grasp.jaws)
-                .collect();
-            for (k, a) in failed.iter().enumerate() {
-                assert!(
-                    failed[k + 1..].iter().all(|b| !a.same_place(b)),
-                    "{kind} {}: a failed grasp was repeated",
-                    plan.executor
-                );
-            }
+    for (kind, plan) in every_policy_exactly_and_in_the_simulator(&scene) {
+        if kind == PolicyKind::Sog {
+            assert!(matches!(plan.status, RunStatus::Stopped { .. }));
+        } else {
+            assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
+        }
+        assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
+        let failed: Vec<_> = plan
+            .trips
+            .iter()
+            .filter(|t| t.carried.is_empty())
+            .map(|t| t.plan.grasp.jaws)
+            .collect();
+        for (k, a) in failed.iter().enumerate() {
+            assert!(
+                failed[k + 1..].iter().all(|b| !a.same_place(b)),
+                "{kind} {}: a failed grasp was repeated",
+                plan.executor
+            );
         }
     }
 }
@@ -75,7 +84,6 @@ fn stranded_bars_are_cleared_without_identical_retries() {
 #[test]
 fn objects_stuck_together_are_pushed_apart() {
     use nalgebra::Point2;
-    use pushmog::exec::{Executor, Sim, SimSettings};
     use pushmog::geometry::ConvexPolygon;
     use pushmog::scene::{Gripper, Object, ObjectId, Pose, Workspace};
     let outline = |points: &[(f64, f64)]| {
@@ -120,39 +128,33 @@ fn objects_stuck_together_are_pushed_apart() {
         ),
     ];
     let scene = Scene::from_parts(Workspace::new(0.6, 0.45), Gripper::default(), objects).unwrap();
-    for kind in PolicyKind::ALL {
-        let policy = Policy::new(kind, PolicySettings::default()).unwrap();
-        let mut ideal = policy.ideal();
-        let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
-        for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
-            let plan = policy.run(&scene, executor, 1).unwrap();
-            assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
-            if matches!(kind, PolicyKind::Sog | PolicyKind::Mog) {
-                assert!(
-                    !matches!(plan.status, RunStatus::Cleared) || plan.executor == "sim",
-                    "{kind}: cleared without pushing"
-                );
-                continue;
-            }
-            assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
-            let openings: Vec<f64> = plan.trips[0]
-                .plan
-                .pushes
-                .iter()
-                .map(|p| p.fork.opening)
-                .collect();
-            println!(
-                "{kind} {}: first trip's push openings {openings:?}",
-                plan.executor
+    for (kind, plan) in every_policy_exactly_and_in_the_simulator(&scene) {
+        assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
+        if matches!(kind, PolicyKind::Sog | PolicyKind::Mog) {
+            assert!(
+                !matches!(plan.status, RunStatus::Cleared) || plan.executor == "sim",
+                "{kind}: cleared without pushing"
             );
-            if plan.executor == "ideal" {
-                assert!(
-                    openings
-                        .first()
-                        .is_some_and(|&o| o < scene.gripper().fork_push_opening()),
-                    "{kind}: the first trip pushes nothing apart"
-                );
-            }
+            continue;
+        }
+        assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
+        let openings: Vec<f64> = plan.trips[0]
+            .plan
+            .pushes
+            .iter()
+            .map(|p| p.fork.opening)
+            .collect();
+        println!(
+            "{kind} {}: first trip's push openings {openings:?}",
+            plan.executor
+        );
+        if plan.executor == "ideal" {
+            assert!(
+                openings
+                    .first()
+                    .is_some_and(|&o| o < scene.gripper().fork_push_opening()),
+                "{kind}: the first trip pushes nothing apart"
+            );
         }
     }
 }

@@ -71,17 +71,17 @@ impl MultiObject {
     }
 
     /// `jaws` moved along their closing axis to the middle of `caught`'s extent along it (scene
-    /// indices, sorted), with the moved plates' clearance (`clearance`, `pushed`
-    /// objects kept further from), when the move catches the same objects, stands apart from every
-    /// jaw pose in `avoid` and keeps the plates clear enough; `None` otherwise
-    /// (`centre_along_axis`).
+    /// indices, sorted), with the moved plates' clearance (`clearance`, `pushed` objects kept
+    /// further from), when the move catches the same objects, stands apart from every jaw pose in
+    /// `avoid` and keeps the plates clear enough; `None` otherwise (`centre_along_axis`).
     pub(super) fn centred(
         &self,
         scene: &Scene,
         jaws: &JawPose,
         caught: &[usize],
-        (avoid, pushed): (&[JawPose], &[usize]),
-    ) -> Option<(JawPose, (f64, bool))> {
+        avoid: &[JawPose],
+        pushed: &[usize],
+    ) -> Option<(JawPose, f64)> {
         let axis = jaws.axis();
         let (low, high) = caught
             .iter()
@@ -102,8 +102,8 @@ impl MultiObject {
         if same != caught || avoid.iter().any(|a| a.same_place(&moved)) {
             return None;
         }
-        let clearance = self.clearance(scene, &moved, pushed);
-        clearance.1.then_some((moved, clearance))
+        let (clearance, enough) = self.clearance(scene, &moved, pushed);
+        enough.then_some((moved, clearance))
     }
 
     fn angles(&self, scene: &Scene, targets: &[usize]) -> Vec<f64> {

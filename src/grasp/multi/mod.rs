@@ -253,7 +253,7 @@ impl MultiObject {
             let centred = self
                 .settings
                 .centre_along_axis
-                .then(|| self.centred(scene, candidate, &sorted, (request.avoid, pushed)))
+                .then(|| self.centred(scene, candidate, &sorted, request.avoid, pushed))
                 .flatten();
             let jaws = centred.as_ref().map_or(candidate, |(c, _)| c);
             if self.too_near_the_edge(scene, &caught, jaws) {
@@ -261,7 +261,7 @@ impl MultiObject {
                 continue;
             }
             let (clearance, enough) = match centred {
-                Some((_, judged)) => judged,
+                Some((_, clearance)) => (clearance, true),
                 None => self.clearance(scene, jaws, pushed),
             };
             if !enough {
