@@ -7,6 +7,7 @@ mod cli;
 mod clustering_milp;
 mod executors;
 mod experiments;
+mod fuse;
 mod fuzz;
 mod generator;
 mod geometry_properties;

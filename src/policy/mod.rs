@@ -381,6 +381,7 @@ fn multi_object(settings: &PolicySettings, problem: &Arc<Problem>) -> Result<Mul
 mod ahead;
 mod context;
 mod correct;
+mod fuse;
 mod no_trip;
 mod price;
 mod riders;
@@ -392,6 +393,7 @@ mod trip;
 pub use crate::plan::TripPlan;
 pub use ahead::AHEAD_TRIES;
 pub use context::{GIVE_UP_AFTER, Landing, TripContext};
+pub use fuse::{LookFusion, TOUCH_REACH};
 pub use no_trip::{NoTrip, TripAnswer};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths, rider_paths};
 pub use riders::Riders;

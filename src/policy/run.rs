@@ -11,6 +11,7 @@
 use std::time::Instant;
 
 use super::context::{Landing, TripContext};
+use super::fuse::LookFusion;
 use super::{NoTrip, Policy, TimeModel, TripPlan};
 use crate::error::Result;
 use crate::exec::Executor;
@@ -43,6 +44,8 @@ pub struct Run<'a> {
     verify_first: bool,
     /// What the executor reported lost at the last observation.
     lost_before: Vec<ObjectId>,
+    /// With `run.fuse_looks`, the poses seen since each object was last touched.
+    fusion: Option<LookFusion>,
 }
 
 impl<'a> Run<'a> {
@@ -59,6 +62,12 @@ impl<'a> Run<'a> {
     ) -> Result<Self> {
         executor.reset(scene)?;
         let limit = policy.settings().run.max_trips_per_object * scene.len() as f64;
+        let noise = &policy.settings().multi.noise;
+        let fusion = policy
+            .settings()
+            .run
+            .fuse_looks
+            .then(|| LookFusion::new(noise.perception_position, noise.perception_yaw));
         Ok(Self {
             policy,
             gripper: scene.gripper().clone(),
@@ -73,6 +82,7 @@ impl<'a> Run<'a> {
             status: None,
             verify_first: false,
             lost_before: Vec::new(),
+            fusion,
         })
     }
 
@@ -93,7 +103,7 @@ impl<'a> Run<'a> {
         if self.status.is_some() {
             return Ok(self.status.as_ref());
         }
-        let observed = executor.observe()?;
+        let observed = self.fused(executor.observe()?);
         let lost = executor.lost();
         let newly = self.newly_lost(&lost);
         if let Some(trip) = self.trips.last_mut() {
@@ -140,6 +150,8 @@ impl<'a> Run<'a> {
         // seen: corrective pushes (at most `max_corrections` rounds) and the grasp.
         let mut current = trip;
         let mut from = 0;
+        // Pushes already noted for the looks' fusion.
+        let mut noted = 0;
         loop {
             for (k, push) in record.plan.pushes.iter().enumerate().skip(from) {
                 if let Some(landing) = executor.push(push)? {
@@ -163,7 +175,9 @@ impl<'a> Run<'a> {
             {
                 break;
             }
-            let after = executor.observe()?;
+            self.note_pushes(&record.plan.pushes[noted..]);
+            noted = record.plan.pushes.len();
+            let after = self.fused(executor.observe()?);
             let newly = self.newly_lost(&executor.lost());
             record.lost.extend(newly);
             let may_push = record.looks.len() < run_settings.max_corrections;
@@ -191,6 +205,13 @@ impl<'a> Run<'a> {
             self.refuse_unless_verified(&record)?;
         }
         place_and_grasp(&mut record, executor)?;
+        self.note_pushes(&record.plan.pushes[noted..]);
+        if let Some(fusion) = self.fusion.as_mut() {
+            for rider in &record.plan.riders {
+                fusion.grasped(&rider.pick.jaws, &self.gripper);
+            }
+            fusion.grasped(&record.plan.grasp.jaws, &self.gripper);
+        }
         if record.carried.is_empty() {
             self.in_a_row += 1;
             match record.fault {
@@ -204,6 +225,23 @@ impl<'a> Run<'a> {
         }
         self.trips.push(record);
         Ok(None)
+    }
+
+    /// `observed` with the looks fused (`run.fuse_looks`), or as it is.
+    fn fused(&mut self, observed: Scene) -> Scene {
+        match self.fusion.as_mut() {
+            Some(fusion) => fusion.fuse(observed),
+            None => observed,
+        }
+    }
+
+    /// Notes `pushes` as made, for the looks' fusion.
+    fn note_pushes(&mut self, pushes: &[crate::push::Push]) {
+        if let Some(fusion) = self.fusion.as_mut() {
+            for push in pushes {
+                fusion.pushed(push, &self.gripper);
+            }
+        }
     }
 
     /// Plans a trip on `observed`, timing it.

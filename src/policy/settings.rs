@@ -95,6 +95,12 @@ pub struct LoopSettings {
     /// Rounds of corrective pushes a trip may make after its first pushes, each planned on a new
     /// observation (needs `observe_after_pushes`). Default 2.
     pub max_corrections: usize,
+    /// Plan on the mean of the poses seen since an object was last touched, instead of the newest
+    /// look alone (`policy/fuse.rs`; `formulations/perception.md`, "Looks fused"): the camera's
+    /// error, `multi.noise.perception_position` and `perception_yaw`, shrinks as 1/√looks for
+    /// objects that stand still. Default false (written only when set).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub fuse_looks: bool,
 }
 
 impl Default for LoopSettings {
@@ -104,6 +110,7 @@ impl Default for LoopSettings {
             max_trips_per_object: 3.0,
             observe_after_pushes: true,
             max_corrections: 2,
+            fuse_looks: false,
         }
     }
 }

@@ -128,6 +128,16 @@ impl Sim {
         &self.settings
     }
 
+    /// Where every prism standing upright on the table is, without the camera's noise: the ground
+    /// truth against which a look, or looks fused, can be measured.
+    pub fn true_poses(&self) -> Vec<(ObjectId, Pose)> {
+        self.prisms
+            .iter()
+            .filter(|prism| prism.tilt() <= self.settings.topple_angle)
+            .map(|prism| (prism.id, prism.planar_pose()))
+            .collect()
+    }
+
     fn stage_settings(&self) -> StageSettings {
         StageSettings {
             friction_finger: self.settings.friction_finger,
