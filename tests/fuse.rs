@@ -59,7 +59,7 @@ fn fused_looks_are_nearer_the_truth_than_single_looks_while_objects_are_taken_on
         else {
             break;
         };
-        fusion.grasped(&grasp.jaws, planned_on.gripper());
+        fusion.grasped(&grasp.jaws);
         sim.grasp(&grasp).unwrap();
     }
     assert!(raw.len() > 200, "{} poses seen", raw.len());
@@ -136,7 +136,7 @@ fn an_object_left_alone_is_averaged_and_one_touched_or_moved_starts_again() {
         angle: 0.0,
         opening: 0.03,
     };
-    fusion.grasped(&jaws, &gripper);
+    fusion.grasped(&jaws);
     let seen = fusion.fuse(table(
         Pose::new(0.105, 0.1, 0.0),
         Pose::new(far.x + 0.001, far.y, 0.0),

@@ -550,8 +550,12 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
     records: list = []
     in_a_row, status = 0, "cleared"
     perception = sim["perception_position"] if noise else 0.0
+    # With run.fuse_looks, still objects are planned at the mean of their looks, as pushmog's loop.
+    fusion = pushmog.LookFusion.for_planner(planner) if planner.settings["run"].get("fuse_looks") else None
     while True:
         observed, lost = world.observe(perception, rng)
+        if fusion is not None:
+            observed = fusion.fuse(observed)
         if len(observed) == 0:
             status = "cleared" if not lost else f"stopped: {len(lost)} lost ({', '.join(sorted(set(lost.values())))})"
             break
@@ -576,10 +580,14 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
                     context.record_landing(current, index, world.landed_on)
                     break
                 pushes += 1
+            if fusion is not None:
+                fusion.record_pushes(current)
             # Pushes ahead, for later trips' grasps, are seen at the next trip's look.
             if landed or not current.pushes or not run["observe_after_pushes"] or current.ahead:
                 break
             seen, _ = world.observe(perception, rng)
+            if fusion is not None:
+                seen = fusion.fuse(seen)
             corrected = planner.correct_trip(seen, current, context, may_push=looks < run["max_corrections"])
             looks += 1
             if corrected is None:
@@ -596,6 +604,8 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
                 placed.append(rider["object"])
         if not landed:
             carried, landed = world.grasp(trip.grasp, offset)
+        if fusion is not None:
+            fusion.record_grasp(trip)
         records.append(Record(trip.grasp.objects, carried, pushes, landed, placed))
         riders = f", riders {placed}" if placed else ""
         log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}{riders}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))

@@ -11,7 +11,7 @@ from . import _native
 from ._plan import Plan, TripPlan
 from ._scene import Scene, _plain
 
-__all__ = ["POLICIES", "Planner", "TripContext", "NoTrip"]
+__all__ = ["POLICIES", "Planner", "TripContext", "NoTrip", "LookFusion"]
 
 POLICIES = tuple(_native.policies())
 
@@ -79,6 +79,45 @@ class TripContext:
     def landed(self) -> list:
         """Pushes recorded as landed on an object, as dicts with ``push`` and ``on``."""
         return json.loads(self._native.landed())
+
+
+class LookFusion:
+    """Looks fused, for a loop run from Python (``pushmog run`` does it with the policy setting
+    ``run.fuse_looks``; ``formulations/perception.md``, "Looks fused"): an object that nothing
+    touched since the last look is given the mean of its looks since it was last moved, whose error
+    shrinks as one over the square root of their number. Call :meth:`fuse` on every look,
+    :meth:`record_pushes` once a round of a trip's pushes is made and :meth:`record_grasp` once its
+    grasp is. An object within 2 cm of what the robot did, or seen further from its mean than three
+    standard deviations of the camera's error, starts again from its newest look."""
+
+    __slots__ = ("_native",)
+
+    def __init__(self, position: float = 0.002, yaw: float = 0.035) -> None:
+        """``position`` (metres, per axis) and ``yaw`` (radians): one look's error, each 0 to 0.05;
+        a ``SettingsError`` otherwise."""
+        self._native = _native.LookFusion(float(position), float(yaw))
+
+    @staticmethod
+    def for_planner(planner: "Planner") -> "LookFusion":
+        """With the perception noise that ``planner``'s grasp judge assumes (``multi.noise``)."""
+        noise = planner.settings["multi"]["noise"]
+        return LookFusion(noise["perception_position"], noise["perception_yaw"])
+
+    def fuse(self, scene: Scene) -> Scene:
+        """The look ``scene`` with every object that stood still at the mean of its looks."""
+        return Scene(self._native.fuse(scene._native))
+
+    def record_pushes(self, trip: TripPlan, start: int = 0) -> None:
+        """The pushes of ``trip`` from number ``start`` on were made."""
+        for push in trip.to_dict()["pushes"][start:]:
+            self._native.pushed(json.dumps(push))
+
+    def record_grasp(self, trip: TripPlan) -> None:
+        """The grasp of ``trip`` was made, after its riders' picks."""
+        document = trip.to_dict()
+        for rider in document.get("riders", []):
+            self._native.grasped(json.dumps(rider["pick"]["jaws"]))
+        self._native.grasped(json.dumps(document["grasp"]["jaws"]))
 
 
 class Planner:

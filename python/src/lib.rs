@@ -22,6 +22,7 @@ use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+mod fusion;
 mod perception;
 
 /// An attribute of a Python exception.
@@ -520,6 +521,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<Scene>()?;
     module.add_class::<TripContext>()?;
     module.add_class::<Planner>()?;
+    module.add_class::<fusion::LookFusion>()?;
     module.add_function(wrap_pyfunction!(generate, module)?)?;
     module.add_function(wrap_pyfunction!(builtin_objects, module)?)?;
     module.add_function(wrap_pyfunction!(verify_plan, module)?)?;

@@ -82,6 +82,8 @@ pub struct LookFusion {
     touched: Vec<ConvexPolygon>,
     /// Per-axis position and yaw standard deviation of one look.
     sigma: (f64, f64),
+    /// The gripper of the last look, whose fingers and plates the actions are drawn with.
+    gripper: Gripper,
 }
 
 impl LookFusion {
@@ -94,7 +96,7 @@ impl LookFusion {
     }
 
     /// Notes that `push` was made: objects near the region it swept start their tracks again.
-    pub fn pushed(&mut self, push: &Push, gripper: &Gripper) {
+    pub fn pushed(&mut self, push: &Push) {
         let Some(track) = self.tracks.get(&push.object) else {
             return;
         };
@@ -107,7 +109,7 @@ impl LookFusion {
             points.extend_from_slice(track.polygon.transformed(&at).vertices());
         }
         for centre in [&push.fork.approach, &push.fork.end] {
-            for finger in finger_footprints(gripper, push.fork.opening, centre, &facing) {
+            for finger in finger_footprints(&self.gripper, push.fork.opening, centre, &facing) {
                 points.extend_from_slice(finger.vertices());
             }
         }
@@ -118,9 +120,9 @@ impl LookFusion {
     }
 
     /// Notes that jaws came down open at `jaws` (a grasp, or a rider's pick).
-    pub fn grasped(&mut self, jaws: &JawPose, gripper: &Gripper) {
+    pub fn grasped(&mut self, jaws: &JawPose) {
         let points: Vec<Point2<f64>> = jaws
-            .plates(gripper)
+            .plates(&self.gripper)
             .iter()
             .flat_map(|plate| plate.vertices().to_vec())
             .collect();
@@ -133,6 +135,7 @@ impl LookFusion {
     /// extends or restarts each object's track, and forgets what was touched.
     pub fn fuse(&mut self, observed: Scene) -> Scene {
         let touched = std::mem::take(&mut self.touched);
+        self.gripper = observed.gripper().clone();
         let (sigma_p, sigma_yaw) = self.sigma;
         let mut tracks = HashMap::with_capacity(observed.len());
         let mut fused: Vec<Object> = observed.objects().to_vec();

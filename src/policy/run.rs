@@ -208,9 +208,9 @@ impl<'a> Run<'a> {
         self.note_pushes(&record.plan.pushes[noted..]);
         if let Some(fusion) = self.fusion.as_mut() {
             for rider in &record.plan.riders {
-                fusion.grasped(&rider.pick.jaws, &self.gripper);
+                fusion.grasped(&rider.pick.jaws);
             }
-            fusion.grasped(&record.plan.grasp.jaws, &self.gripper);
+            fusion.grasped(&record.plan.grasp.jaws);
         }
         if record.carried.is_empty() {
             self.in_a_row += 1;
@@ -239,7 +239,7 @@ impl<'a> Run<'a> {
     fn note_pushes(&mut self, pushes: &[crate::push::Push]) {
         if let Some(fusion) = self.fusion.as_mut() {
             for push in pushes {
-                fusion.pushed(push, &self.gripper);
+                fusion.pushed(push);
             }
         }
     }
