@@ -1,5 +1,5 @@
 """Looks fused from Python (``pushmog.LookFusion``): still objects at the mean of their looks, objects
-beside an action started again, and the MuJoCo example's loop given it by the setting."""
+beside an action started again, the camera's error checked."""
 
 import math
 

@@ -97,16 +97,17 @@ impl LookFusion {
 
     /// Notes that `push` was made: objects near the region it swept start their tracks again.
     pub fn pushed(&mut self, push: &Push) {
-        let Some(track) = self.tracks.get(&push.object) else {
-            return;
-        };
-        let yaw = track.mean().yaw;
         let jaw = push.fork.jaw_angle;
         let facing = Vector2::new(jaw.sin(), -jaw.cos());
         let mut points: Vec<Point2<f64>> = Vec::new();
-        for pose in [&push.from, &push.to] {
-            let at = Pose::new(pose.x, pose.y, yaw).isometry();
-            points.extend_from_slice(track.polygon.transformed(&at).vertices());
+        // The pushed object's outline where it starts and ends (an object never seen is only the
+        // fingers' path).
+        if let Some(track) = self.tracks.get(&push.object) {
+            let yaw = track.mean().yaw;
+            for pose in [&push.from, &push.to] {
+                let at = Pose::new(pose.x, pose.y, yaw).isometry();
+                points.extend_from_slice(track.polygon.transformed(&at).vertices());
+            }
         }
         for centre in [&push.fork.approach, &push.fork.end] {
             for finger in finger_footprints(&self.gripper, push.fork.opening, centre, &facing) {
