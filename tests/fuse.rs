@@ -6,12 +6,12 @@ use std::collections::HashMap;
 
 use nalgebra::Point2;
 use pushmog::exec::{Executor, Sim, SimSettings};
-use pushmog::geometry::{ConvexPolygon, wrap_angle};
+use pushmog::geometry::wrap_angle;
 use pushmog::grasp::{GraspPlanner, GraspRequest, JawPose, SingleObject};
 use pushmog::policy::{LookFusion, TOUCH_REACH};
-use pushmog::scene::{Gripper, Object, ObjectId, Pose, Scene, Workspace};
+use pushmog::scene::{Gripper, ObjectId, Pose, Scene};
 
-use crate::support::scene;
+use crate::support::{boxes, scene};
 
 /// Position and yaw errors of every object in `seen` against `truth`, metres and radians.
 fn errors(seen: &Scene, truth: &HashMap<ObjectId, Pose>) -> Vec<(f64, f64)> {
@@ -79,54 +79,30 @@ fn fused_looks_are_nearer_the_truth_than_single_looks_while_objects_are_taken_on
     );
 }
 
-fn square(side: f64) -> ConvexPolygon {
-    let h = side / 2.0;
-    ConvexPolygon::new(vec![
-        Point2::new(-h, -h),
-        Point2::new(h, -h),
-        Point2::new(h, h),
-        Point2::new(-h, h),
-    ])
-    .unwrap()
+/// Two 30 mm squares, the first at (`first`, 0.1), the second at (`second`, 0.3).
+fn table(first: f64, second: f64) -> Scene {
+    boxes(0.03, 0.03, &[(first, 0.1), (second, 0.3)])
 }
 
-/// Two 30 mm squares, the first at `a`, the second at `b`.
-fn table(a: Pose, b: Pose) -> Scene {
-    let objects = [a, b]
-        .into_iter()
-        .enumerate()
-        .map(|(k, pose)| Object {
-            id: ObjectId(k as u32),
-            name: None,
-            polygon: square(0.03),
-            pose,
-            height: 0.03,
-            mass: None,
-        })
-        .collect();
-    Scene::from_parts(Workspace::new(0.6, 0.45), Gripper::default(), objects).unwrap()
-}
-
-fn pose_of(scene: &Scene, id: u32) -> Pose {
-    scene.objects()[scene.index_of(ObjectId(id)).unwrap()].pose
+fn x_of(scene: &Scene, id: u32) -> f64 {
+    scene.objects()[scene.index_of(ObjectId(id)).unwrap()]
+        .pose
+        .x
 }
 
 #[test]
 fn an_object_left_alone_is_averaged_and_one_touched_or_moved_starts_again() {
     let mut fusion = LookFusion::new(0.002, 0.035);
-    let far = Pose::new(0.45, 0.3, 0.0);
+    let far = 0.45;
     // Three looks of both squares standing still, 1 mm apart: the mean of the looks.
     for (k, dx) in [0.001, -0.001, 0.003].iter().enumerate() {
-        let seen = fusion.fuse(table(
-            Pose::new(0.1 + dx, 0.1, 0.0),
-            Pose::new(far.x + dx, far.y, 0.0),
-        ));
+        let seen = fusion.fuse(table(0.1 + dx, far + dx));
         let expected = match k {
             0 => 0.101,
             1 => 0.1,
             _ => 0.101,
         };
-        assert!((pose_of(&seen, 0).x - expected).abs() < 1e-12, "look {k}");
+        assert!((x_of(&seen, 0) - expected).abs() < 1e-12, "look {k}");
     }
     // Jaws come down beside the first square (within the touch reach) and far from the second:
     // the first starts again from the new look, the second goes on averaging.
@@ -137,18 +113,12 @@ fn an_object_left_alone_is_averaged_and_one_touched_or_moved_starts_again() {
         opening: 0.03,
     };
     fusion.grasped(&jaws);
-    let seen = fusion.fuse(table(
-        Pose::new(0.105, 0.1, 0.0),
-        Pose::new(far.x + 0.001, far.y, 0.0),
-    ));
-    assert!((pose_of(&seen, 0).x - 0.105).abs() < 1e-12);
-    assert!((pose_of(&seen, 1).x - (far.x + 0.001)).abs() < 1e-12);
+    let seen = fusion.fuse(table(0.105, far + 0.001));
+    assert!((x_of(&seen, 0) - 0.105).abs() < 1e-12);
+    assert!((x_of(&seen, 1) - (far + 0.001)).abs() < 1e-12);
     // Without any action, a look 10 mm away (beyond three standard deviations of the difference)
     // is taken as a move: the newest look alone.
-    let seen = fusion.fuse(table(
-        Pose::new(0.105, 0.1, 0.0),
-        Pose::new(far.x + 0.011, far.y, 0.0),
-    ));
-    assert!((pose_of(&seen, 1).x - (far.x + 0.011)).abs() < 1e-12);
-    assert!((pose_of(&seen, 0).x - 0.105).abs() < 1e-12);
+    let seen = fusion.fuse(table(0.105, far + 0.011));
+    assert!((x_of(&seen, 1) - (far + 0.011)).abs() < 1e-12);
+    assert!((x_of(&seen, 0) - 0.105).abs() < 1e-12);
 }
