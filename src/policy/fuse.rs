@@ -48,8 +48,6 @@ struct Track {
     sum_sin: f64,
     /// The outline in the object's own frame.
     polygon: ConvexPolygon,
-    /// The outline at the mean pose.
-    outline: ConvexPolygon,
 }
 
 impl Track {
@@ -61,7 +59,6 @@ impl Track {
             sum_cos: object.pose.yaw.cos(),
             sum_sin: object.pose.yaw.sin(),
             polygon: object.polygon.clone(),
-            outline: object.world_polygon(),
         }
     }
 
@@ -72,6 +69,11 @@ impl Track {
             self.sum_y / n,
             self.sum_sin.atan2(self.sum_cos),
         )
+    }
+
+    /// The outline at the mean pose.
+    fn outline(&self) -> ConvexPolygon {
+        self.polygon.transformed(&self.mean().isometry())
     }
 }
 
@@ -143,9 +145,10 @@ impl LookFusion {
         let mut averaged: Vec<usize> = Vec::new();
         for (k, object) in observed.objects().iter().enumerate() {
             let kept = self.tracks.remove(&object.id).filter(|track| {
+                let outline = track.outline();
                 let near = touched
                     .iter()
-                    .any(|region| distance(region, &track.outline) < TOUCH_REACH);
+                    .any(|region| distance(region, &outline) < TOUCH_REACH);
                 if near {
                     return false;
                 }
@@ -163,7 +166,6 @@ impl LookFusion {
                     track.sum_cos += object.pose.yaw.cos();
                     track.sum_sin += object.pose.yaw.sin();
                     fused[k].pose = track.mean();
-                    track.outline = fused[k].world_polygon();
                     averaged.push(k);
                     track
                 }
@@ -173,8 +175,8 @@ impl LookFusion {
         }
         // A mean that overlaps another object or leaves the workspace gives way to the newest look;
         // each pass can only put poses back, so it ends.
+        let mut outlines: Vec<ConvexPolygon> = fused.iter().map(Object::world_polygon).collect();
         loop {
-            let outlines: Vec<ConvexPolygon> = fused.iter().map(Object::world_polygon).collect();
             let clash = averaged.iter().position(|&k| {
                 let outside = outlines[k]
                     .vertices()
@@ -187,6 +189,7 @@ impl LookFusion {
             let Some(at) = clash else { break };
             let k = averaged.swap_remove(at);
             fused[k].pose = observed.objects()[k].pose;
+            outlines[k] = observed.world_polygon(k).clone();
             tracks.insert(fused[k].id, Track::new(&observed.objects()[k]));
         }
         self.tracks = tracks;
