@@ -114,10 +114,7 @@ class LookFusion:
 
     def record_grasp(self, trip: TripPlan) -> None:
         """The grasp of ``trip`` was made, after its riders' picks."""
-        document = trip.to_dict()
-        for rider in document.get("riders", []):
-            self._native.grasped(json.dumps(rider["pick"]["jaws"]))
-        self._native.grasped(json.dumps(document["grasp"]["jaws"]))
+        self._native.trip_grasped(json.dumps(trip.to_dict()))
 
 
 class Planner:

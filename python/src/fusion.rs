@@ -1,9 +1,10 @@
 //! Looks fused across the boundary (`pushmog::policy::LookFusion`): a loop run from Python, such as
 //! the MuJoCo example's, plans on the mean of the looks of objects that stood still, as `pushmog
-//! run` does with `run.fuse_looks`. Pushes and jaws cross as JSON.
+//! run` does with `run.fuse_looks`. Pushes and trips cross as JSON.
 
-use pushmog::grasp::{JawPose, Noise};
+use pushmog::grasp::Noise;
 use pushmog::json;
+use pushmog::policy::TripPlan;
 use pushmog::push::Push;
 use pyo3::prelude::*;
 
@@ -47,10 +48,11 @@ impl LookFusion {
         Ok(())
     }
 
-    /// Notes jaws that came down open (JSON of a grasp's `jaws`).
-    fn grasped(&mut self, jaws: &str) -> PyResult<()> {
-        let jaws: JawPose = check(json::from_json(jaws, "jaws"))?;
-        self.fusion.grasped(&jaws);
+    /// Notes that a trip's jaws came down open (JSON of the trip): its riders' picks, then its
+    /// grasp.
+    fn trip_grasped(&mut self, trip: &str) -> PyResult<()> {
+        let trip: TripPlan = check(json::from_json(trip, "trip"))?;
+        self.fusion.trip_grasped(&trip);
         Ok(())
     }
 }

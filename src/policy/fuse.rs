@@ -25,6 +25,7 @@ use nalgebra::{Point2, Vector2};
 
 use crate::geometry::{ConvexPolygon, convex_hull, distance, overlap};
 use crate::grasp::JawPose;
+use crate::plan::TripPlan;
 use crate::push::Push;
 use crate::push::fork::finger_footprints;
 use crate::scene::{Gripper, OUTSIDE_TOLERANCE, OVERLAP_TOLERANCE, Object, ObjectId, Pose, Scene};
@@ -132,6 +133,14 @@ impl LookFusion {
         if let Ok(region) = ConvexPolygon::new(convex_hull(&points)) {
             self.touched.push(region);
         }
+    }
+
+    /// Notes that `trip`'s jaws came down open: its riders' picks, then its grasp.
+    pub fn trip_grasped(&mut self, trip: &TripPlan) {
+        for rider in &trip.riders {
+            self.grasped(&rider.pick.jaws);
+        }
+        self.grasped(&trip.grasp.jaws);
     }
 
     /// The table of `observed` with every untouched object at the mean of its looks; starts,

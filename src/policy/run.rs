@@ -207,10 +207,7 @@ impl<'a> Run<'a> {
         place_and_grasp(&mut record, executor)?;
         self.note_pushes(&record.plan.pushes[noted..]);
         if let Some(fusion) = self.fusion.as_mut() {
-            for rider in &record.plan.riders {
-                fusion.grasped(&rider.pick.jaws);
-            }
-            fusion.grasped(&record.plan.grasp.jaws);
+            fusion.trip_grasped(&record.plan);
         }
         if record.carried.is_empty() {
             self.in_a_row += 1;
