@@ -147,7 +147,10 @@ def reliability_svg(table, title, enough, tolerance):
         parts.append(f'<line x1="{x(mean)}" y1="{y(max(0, seen - half))}" x2="{x(mean)}" '
                      f'y2="{y(min(1, seen + half))}" stroke="{colour}" stroke-width="2"/>')
         parts.append(f'<circle cx="{x(mean)}" cy="{y(seen)}" r="4" fill="{colour}"/>')
-        parts.append(f'<text x="{x(mean) + 7}" y="{y(seen) - 6}" fill="{colour}">n={n}</text>')
+        # Labels of points near the right edge go to their left, inside the frame.
+        anchor, dx = ("end", -7) if mean > 0.85 else ("start", 7)
+        parts.append(f'<text x="{x(mean) + dx}" y="{y(seen) - 6}" text-anchor="{anchor}" '
+                     f'fill="{colour}">n={n}</text>')
     parts.append(f'<text x="{x(1) - 6}" y="{y(0) - 24}" text-anchor="end">grey band: within '
                  f'±{tolerance} of the prediction</text>')
     parts.append(f'<text x="{x(1) - 6}" y="{y(0) - 10}" text-anchor="end">grey points: fewer '
