@@ -154,10 +154,13 @@ impl LookFusion {
         let mut averaged: Vec<usize> = Vec::new();
         for (k, object) in observed.objects().iter().enumerate() {
             let kept = self.tracks.remove(&object.id).filter(|track| {
-                let outline = track.outline();
-                let near = touched
-                    .iter()
-                    .any(|region| distance(region, &outline) < TOUCH_REACH);
+                // The outline is drawn only when the robot acted since the last look.
+                let near = !touched.is_empty() && {
+                    let outline = track.outline();
+                    touched
+                        .iter()
+                        .any(|region| distance(region, &outline) < TOUCH_REACH)
+                };
                 if near {
                     return false;
                 }
@@ -184,7 +187,13 @@ impl LookFusion {
         }
         // A mean that overlaps another object or leaves the workspace gives way to the newest look;
         // each pass can only put poses back, so it ends.
-        let mut outlines: Vec<ConvexPolygon> = fused.iter().map(Object::world_polygon).collect();
+        // Objects not averaged keep the observed scene's outlines.
+        let mut outlines: Vec<ConvexPolygon> = (0..observed.len())
+            .map(|k| observed.world_polygon(k).clone())
+            .collect();
+        for &k in &averaged {
+            outlines[k] = fused[k].world_polygon();
+        }
         loop {
             let clash = averaged.iter().position(|&k| {
                 let outside = outlines[k]
