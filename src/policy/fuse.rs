@@ -117,9 +117,7 @@ impl LookFusion {
                 points.extend_from_slice(finger.vertices());
             }
         }
-        if let Ok(region) = ConvexPolygon::new(convex_hull(&points)) {
-            self.touched.push(region);
-        }
+        self.touch(&points);
         self.tracks.remove(&push.object);
     }
 
@@ -130,7 +128,12 @@ impl LookFusion {
             .iter()
             .flat_map(|plate| plate.vertices().to_vec())
             .collect();
-        if let Ok(region) = ConvexPolygon::new(convex_hull(&points)) {
+        self.touch(&points);
+    }
+
+    /// Notes the hull of `points` as a region the robot acted in since the last look.
+    fn touch(&mut self, points: &[Point2<f64>]) {
+        if let Ok(region) = ConvexPolygon::new(convex_hull(points)) {
             self.touched.push(region);
         }
     }
