@@ -156,3 +156,112 @@ fn the_verifier_refuses_riders_that_cannot_ride() {
         "{elsewhere:?}"
     );
 }
+
+/// Fails the first grasp made with a rider aboard as a descent onto one of the row's members
+/// would: nothing lifted, the rider left standing on its row. Everything else is applied exactly.
+struct FirstRowLands {
+    inner: pushmog::exec::Ideal,
+    placed: bool,
+    landed: bool,
+}
+
+impl pushmog::exec::Executor for FirstRowLands {
+    /// Not "ideal": its grasps do not carry what the grasp model predicts.
+    fn name(&self) -> &'static str {
+        "ideal-with-a-landing"
+    }
+    fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
+        self.inner.reset(scene)
+    }
+    fn push(
+        &mut self,
+        push: &pushmog::push::Push,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        self.inner.push(push)
+    }
+    fn place(
+        &mut self,
+        rider: &pushmog::plan::Rider,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        self.placed = true;
+        self.inner.place(rider)
+    }
+    fn grasp(
+        &mut self,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        if std::mem::take(&mut self.placed) && !self.landed {
+            self.landed = true;
+            return Ok(pushmog::exec::GraspResult {
+                carried: Vec::new(),
+                landing: Some(pushmog::exec::Landing {
+                    object: grasp.objects[0],
+                }),
+            });
+        }
+        self.inner.grasp(grasp)
+    }
+    fn observe(&mut self) -> pushmog::Result<Scene> {
+        self.inner.observe()
+    }
+    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        self.inner.lost()
+    }
+}
+
+/// A rider left standing on its row after the row's grasp came down on a member is known to the
+/// run (`formulations/stacking.md`, "Riders left standing"): the next trip grasps that row again as
+/// it lies, taking every object the rider rests on, with no push, no new rider and both plates
+/// clear of where the rider was put down, and carries the rider with it; the run clears and every
+/// plan verifies.
+#[test]
+fn a_rider_left_standing_goes_with_its_row_grasped_again() {
+    use pushmog::exec::RIDER_LEFT;
+    let policy = Policy::new(PolicyKind::PushMogOpt, crate::support::with_riders()).unwrap();
+    for seed in 1..=2 {
+        let table = scene(seed);
+        let mut executor = FirstRowLands {
+            inner: policy.ideal(),
+            placed: false,
+            landed: false,
+        };
+        let plan = policy.run(&table, &mut executor, seed).unwrap();
+        assert!(executor.landed, "seed {seed}: no rider was placed");
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared), "seed {seed}");
+        let k = plan
+            .trips
+            .iter()
+            .position(|t| t.carried.is_empty())
+            .unwrap();
+        let (failed, again) = (&plan.trips[k], &plan.trips[k + 1]);
+        let rider = &failed.plan.riders[0];
+        assert!(
+            failed
+                .lost
+                .iter()
+                .any(|l| l.object == rider.object && l.reason == RIDER_LEFT),
+            "seed {seed}: {:?}",
+            failed.lost
+        );
+        assert!(again.plan.pushes.is_empty() && again.plan.riders.is_empty());
+        assert!(
+            rider
+                .on
+                .iter()
+                .all(|id| again.plan.grasp.objects.contains(id)),
+            "seed {seed}"
+        );
+        assert!(again.carried.contains(&rider.object), "seed {seed}");
+        let before = Scene::new(failed.scene.to_spec()).unwrap();
+        let footprint = before.objects()[before.index_of(rider.object).unwrap()]
+            .polygon
+            .transformed(&rider.place.isometry());
+        for plate in again.plan.grasp.jaws.plates(before.gripper()) {
+            assert!(
+                pushmog::geometry::distance(&plate, &footprint)
+                    >= policy.settings().riders.checks.support_margin
+            );
+        }
+    }
+}

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::cluster::ClusterMemory;
+use crate::geometry::ConvexPolygon;
 use crate::grasp::{Grasp, JawPose};
 use crate::push::Push;
 use crate::random::SeededRng;
@@ -34,6 +35,24 @@ pub struct TripContext {
     pub ahead: Vec<Vec<ObjectId>>,
     /// What the clusterer remembers from earlier trips (the MILP's last proven optimum).
     pub clusterings: ClusterMemory,
+    /// Riders left standing on their rows after the row's grasp failed, as the last look reported
+    /// them; the run sets this before each plan ([`Perched`]).
+    pub perched: Vec<Perched>,
+}
+
+/// A rider still standing on the row it was put down on, its row's grasp having carried it not
+/// (the executor reports it lost as [`crate::exec::RIDER_LEFT`]). A camera that sees it on top
+/// cannot give it a place on the table, but the run knows where it was put and on what.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Perched {
+    /// The rider.
+    pub rider: ObjectId,
+    /// The objects the trip that placed it meant to grasp: its row.
+    pub row: Vec<ObjectId>,
+    /// The objects of the row it was put down on.
+    pub on: Vec<ObjectId>,
+    /// Its outline seen from above where it was put down.
+    pub footprint: ConvexPolygon,
 }
 
 /// Multi-object grasps of one set of objects that may carry nothing before those objects are no
@@ -74,6 +93,7 @@ impl TripContext {
             landed: Vec::new(),
             ahead: Vec::new(),
             clusterings: ClusterMemory::default(),
+            perched: Vec::new(),
         }
     }
 

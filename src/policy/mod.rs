@@ -25,7 +25,9 @@
 //! objects is tried. An attempt that yields no grasp is recorded with its reason and costs no trip; a
 //! grasp that carries nothing is a trip (a failed grasp). Its jaws are not proposed again, and after
 //! [`GIVE_UP_AFTER`] multi-object grasps of the same objects carried nothing, those objects are no
-//! longer grasped together ([`TripContext`]). The run stops when the table is clear, when
+//! longer grasped together ([`TripContext`]). A rider left standing on its row by such a grasp
+//! ([`Perched`]) goes with the row, grasped again as it lies before anything else when the jaws can
+//! stay clear of it (`perched.rs`). The run stops when the table is clear, when
 //! every object left is wider than the jaw gap, after `max_failed_attempts` fruitless attempts in a
 //! row, or at the trip limit; it never loops forever.
 
@@ -383,6 +385,7 @@ mod context;
 mod correct;
 mod fuse;
 mod no_trip;
+mod perched;
 mod price;
 mod riders;
 mod run;
@@ -392,7 +395,7 @@ mod trip;
 
 pub use crate::plan::TripPlan;
 pub use ahead::AHEAD_TRIES;
-pub use context::{GIVE_UP_AFTER, Landing, TripContext};
+pub use context::{GIVE_UP_AFTER, Landing, Perched, TripContext};
 pub use fuse::{LookFusion, TOUCH_REACH};
 pub use no_trip::{NoTrip, TripAnswer};
 pub use price::{Pricing, SuccessBand, TripObjective, grasp_path, push_paths, rider_paths};

@@ -5,7 +5,8 @@
 //! and the single-object planner has a grasp to pick it with. One rider per row, and none on a row
 //! with a member's centroid farther from the plates' centre line than half the plate length less
 //! the support margin: in the simulator such rows are dropped far more often
-//! (`formulations/stacking.md`, "Rows held off their centre").
+//! (`formulations/stacking.md`, "Rows held off their centre"). None on a row that still carries a
+//! rider left standing there (`perched.rs`).
 //!
 //! Under the expected-time objective ([`super::TripObjective::ExpectedTime`]) a rider is also
 //! priced: it is placed only when `q_r·(T_trip + T_obs) > ΔT_place`, with `q_r` the calibrated

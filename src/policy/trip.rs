@@ -61,12 +61,15 @@ impl Policy {
         } else {
             match &self.clusterer {
                 None => self.draft_single(scene, &mut context.rng, &context.failed)?,
-                Some(clusterer) => self.draft_clustered(
-                    scene,
-                    clusterer.as_ref(),
-                    context,
-                    &mut clustering_seconds,
-                )?,
+                Some(clusterer) => match self.perched_trip(scene, context)? {
+                    Some(trip) => Ok(trip),
+                    None => self.draft_clustered(
+                        scene,
+                        clusterer.as_ref(),
+                        context,
+                        &mut clustering_seconds,
+                    )?,
+                },
             }
         };
         let mut counters = Vec::new();
@@ -75,7 +78,9 @@ impl Policy {
         }
         let trip = match drafted {
             Ok(mut trip) => {
-                if self.settings.riders.enabled {
+                if self.settings.riders.enabled
+                    && !super::perched::carries_a_rider(context, &trip.grasp.objects)
+                {
                     let predicted = predict(scene, &trip.pushes)?;
                     trip.riders = self.riders_for(&predicted, &trip, &context.failed)?;
                 }

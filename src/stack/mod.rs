@@ -1,8 +1,9 @@
 //! Riders: single objects placed on the top of a pushed row just before the row's grasp, so that
 //! they travel on the row without taking jaw width (the Push-MOG paper's future work, vertical
-//! stacking). This module holds the quasi-static checks and the placement search; the place action,
-//! its planning and its physics are not built yet. The maths, its assumptions and what was measured
-//! are in `formulations/stacking.md`.
+//! stacking). This module holds the quasi-static checks and the placement search; the rider's choice
+//! and price are in `policy/riders.rs`, a rider left standing on its row in `policy/perched.rs`, and
+//! the place action in each executor. The maths, its assumptions and what was measured are in
+//! `formulations/stacking.md`.
 //!
 //! With the row's closing axis `u`, the arm's horizontal acceleration `a` and gravity `g`:
 //! - **Support** ([`Support`]): the row's top is the set of its members' top faces `T_j` at the top
