@@ -31,7 +31,8 @@ top, let go, and the hand rises. A grasp with riders aboard then carries the row
 plates (0.3 m at the simulator's ``carry_speed`` and ``carry_acceleration``, a trapezoidal profile)
 before counting what is held. A placed rider still standing upright 5 mm or more above the table
 when the camera looks is reported lost, "a rider left on another object", as in pushmog's
-simulator.
+simulator; the loop tells the planner (``TripContext.record_riders`` and ``record_lost``), which
+grasps that row again with the rider aboard, as pushmog's own loop does.
 
     python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
     python examples/mujoco_loop.py --seed 1 --policy push-mog-opt --settings experiments/push-mog-opt-riders.json
@@ -63,7 +64,7 @@ TRANSFER_SPEED = 0.25  # m/s, moves through the air (not timed: only what happen
 BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the table
 STRAIGHT = 1e-7  # sine of the smallest turn a hull keeps at a vertex (pushmog refuses below 1e-9)
 RIDING = 0.005  # m: a placed rider whose base stands this high is still on another object (as pushmog's simulator)
-RIDER_LEFT = "a rider left on another object"  # pushmog's simulator's reason, word for word
+RIDER_LEFT = pushmog.RIDER_LEFT  # pushmog's simulator's reason, word for word
 
 
 def prism_mesh(vertices: np.ndarray, height: float) -> str:
@@ -554,6 +555,7 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
     fusion = pushmog.LookFusion.for_planner(planner) if planner.settings["run"].get("fuse_looks") else None
     while True:
         observed, lost = world.observe(perception, rng)
+        context.record_lost(lost)
         if fusion is not None:
             observed = fusion.fuse(observed)
         if len(observed) == 0:
@@ -606,6 +608,8 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
             carried, landed = world.grasp(trip.grasp, offset)
         if fusion is not None:
             fusion.record_grasp(trip)
+        # A rider the grasp leaves standing on its row is grasped with the row at the next trip.
+        context.record_riders(observed, trip)
         records.append(Record(trip.grasp.objects, carried, pushes, landed, placed))
         riders = f", riders {placed}" if placed else ""
         log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}{riders}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))

@@ -11,7 +11,11 @@ from . import _native
 from ._plan import Plan, TripPlan
 from ._scene import Scene, _plain
 
-__all__ = ["POLICIES", "Planner", "TripContext", "NoTrip", "LookFusion"]
+RIDER_LEFT: str = _native.RIDER_LEFT
+"""The reason an executor gives for a rider still standing on another object (its row's grasp did
+not carry it), as :meth:`TripContext.record_lost` expects it."""
+
+__all__ = ["POLICIES", "RIDER_LEFT", "Planner", "TripContext", "NoTrip", "LookFusion"]
 
 POLICIES = tuple(_native.policies())
 
@@ -79,6 +83,18 @@ class TripContext:
     def landed(self) -> list:
         """Pushes recorded as landed on an object, as dicts with ``push`` and ``on``."""
         return json.loads(self._native.landed())
+
+    def record_riders(self, scene: Scene, trip: TripPlan) -> None:
+        """The riders of ``trip``, planned on ``scene``, were put down on its row. Call it once the
+        trip is made, and :meth:`record_lost` at every look, so that a rider left standing on its
+        row is grasped with the row (``formulations/stacking.md``, "Riders left standing")."""
+        self._native.note_riders(scene._native, trip.to_json())
+
+    def record_lost(self, lost: Mapping[int, str]) -> None:
+        """What the last look could not plan for, object id to reason. Riders recorded with
+        :meth:`record_riders` and reported as :data:`RIDER_LEFT` are taken, before anything else,
+        with their row grasped again as it lies, when the jaws can stay clear of them."""
+        self._native.note_lost([(int(k), str(v)) for k, v in lost.items()])
 
 
 class LookFusion:

@@ -272,6 +272,23 @@ impl TripContext {
     fn landed(&self) -> String {
         to_json(&self.context.landed)
     }
+
+    /// Notes the riders a trip (JSON) put down, the trip planned on `scene`.
+    fn note_riders(&mut self, scene: &Scene, trip: &str) -> PyResult<()> {
+        let trip: TripPlan = check(json::from_json(trip, "trip"))?;
+        self.context.note_riders(&scene.scene, &trip);
+        Ok(())
+    }
+
+    /// Takes in what a look could not plan for, `(id, reason)` pairs: riders reported left standing
+    /// on another object are grasped with their rows.
+    fn note_lost(&mut self, lost: Vec<(u32, String)>) {
+        let lost: Vec<(pushmog::scene::ObjectId, &str)> = lost
+            .iter()
+            .map(|(id, why)| (pushmog::scene::ObjectId(*id), why.as_str()))
+            .collect();
+        self.context.note_lost(&lost);
+    }
 }
 
 /// A policy with its settings, ready to plan.
@@ -518,6 +535,7 @@ fn version() -> &'static str {
 
 #[pymodule]
 fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    module.add("RIDER_LEFT", pushmog::exec::RIDER_LEFT)?;
     module.add_class::<Scene>()?;
     module.add_class::<TripContext>()?;
     module.add_class::<Planner>()?;

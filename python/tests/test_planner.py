@@ -322,3 +322,25 @@ def test_riders_are_planned_when_the_setting_is_on(scene):
             assert rider["object"] not in trip.grasp.objects
     plain = pushmog.Planner("push-mog-opt")
     assert all(t is None or not t.riders for t in (plain.plan_trip(scene, pushmog.TripContext(s)) for s in range(3)))
+
+
+def test_a_rider_left_standing_is_grasped_with_its_row(scene):
+    """A rider recorded as put down and then reported left standing on its row (its row's grasp
+    carried nothing) makes the next trip grasp that row again as it lies: no pushes, no new rider,
+    and every object the rider rests on taken."""
+    planner = pushmog.Planner("push-mog-opt", {"riders": {"enabled": True}})
+    for seed in range(8):
+        context = pushmog.TripContext(seed)
+        trip = planner.plan_trip(scene, context)
+        if trip is not None and trip.riders:
+            break
+    else:
+        pytest.fail("no trip put a rider down")
+    rider = trip.riders[0]
+    # The table after the trip's pushes, with the rider standing on the row, out of the camera's view.
+    pushed = scene.with_poses({p.object: p.end.as_array() for p in trip.pushes}).without([rider["object"]])
+    context.record_riders(scene, trip)
+    context.record_lost({rider["object"]: pushmog.RIDER_LEFT})
+    again = planner.plan_trip(pushed, context)
+    assert again is not None and not again.pushes and not again.riders
+    assert set(rider["on"]) <= set(again.grasp.objects)

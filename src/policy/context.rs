@@ -4,11 +4,13 @@
 use serde::{Deserialize, Serialize};
 
 use crate::cluster::ClusterMemory;
+use crate::exec::RIDER_LEFT;
 use crate::geometry::ConvexPolygon;
 use crate::grasp::{Grasp, JawPose};
+use crate::plan::TripPlan;
 use crate::push::Push;
 use crate::random::SeededRng;
-use crate::scene::ObjectId;
+use crate::scene::{ObjectId, Scene};
 
 /// What a run remembers from trip to trip: the random stream that picks the next object or cluster,
 /// the jaw poses where grasps carried nothing (not tried again in practically the same place, unless
@@ -36,8 +38,10 @@ pub struct TripContext {
     /// What the clusterer remembers from earlier trips (the MILP's last proven optimum).
     pub clusterings: ClusterMemory,
     /// Riders left standing on their rows after the row's grasp failed, as the last look reported
-    /// them; the run sets this before each plan ([`Perched`]).
+    /// them ([`TripContext::note_lost`]).
     pub perched: Vec<Perched>,
+    /// Every rider put down so far, where and on what ([`TripContext::note_riders`]).
+    placed: Vec<Perched>,
 }
 
 /// A rider still standing on the row it was put down on, its row's grasp having carried it not
@@ -94,6 +98,7 @@ impl TripContext {
             ahead: Vec::new(),
             clusterings: ClusterMemory::default(),
             perched: Vec::new(),
+            placed: Vec::new(),
         }
     }
 
@@ -134,6 +139,36 @@ impl TripContext {
         }
         self.failed_on = kept;
         !gone.is_empty()
+    }
+
+    /// Notes the riders that `trip`, planned on `scene`, put down: where, on what and in which
+    /// row, in case a look finds one left standing there.
+    pub fn note_riders(&mut self, scene: &Scene, trip: &TripPlan) {
+        for rider in &trip.riders {
+            if let Some(i) = scene.index_of(rider.object) {
+                self.placed.retain(|p| p.rider != rider.object);
+                self.placed.push(Perched {
+                    rider: rider.object,
+                    row: trip.grasp.objects.clone(),
+                    on: rider.on.clone(),
+                    footprint: scene.objects()[i]
+                        .polygon
+                        .transformed(&rider.place.isometry()),
+                });
+            }
+        }
+    }
+
+    /// Takes in what a look could not plan for (the executor's [`crate::exec::Executor::lost`]):
+    /// the riders it reports left standing on another object ([`RIDER_LEFT`]) are
+    /// [`TripContext::perched`] until the next look.
+    pub fn note_lost(&mut self, lost: &[(ObjectId, &str)]) {
+        self.perched = self
+            .placed
+            .iter()
+            .filter(|p| lost.contains(&(p.rider, RIDER_LEFT)))
+            .cloned()
+            .collect();
     }
 
     /// Whether `grasp` takes two or more objects that are still to be grasped together.

@@ -10,11 +10,11 @@
 
 use std::time::Instant;
 
-use super::context::{Landing, Perched, TripContext};
+use super::context::{Landing, TripContext};
 use super::fuse::LookFusion;
 use super::{NoTrip, Policy, TimeModel, TripPlan};
 use crate::error::Result;
-use crate::exec::{Executor, RIDER_LEFT};
+use crate::exec::Executor;
 use crate::plan::{Fault, Look, LostObject, Plan, RunStatus, SharedScene, StopReason, Trip};
 use crate::scene::{Gripper, ObjectId, Scene};
 
@@ -46,8 +46,6 @@ pub struct Run<'a> {
     lost_before: Vec<ObjectId>,
     /// With `run.fuse_looks`, the poses seen since each object was last touched.
     fusion: Option<LookFusion>,
-    /// Every rider put down so far, where and on what ([`TripContext::perched`] is drawn from it).
-    placed: Vec<Perched>,
 }
 
 impl<'a> Run<'a> {
@@ -85,7 +83,6 @@ impl<'a> Run<'a> {
             verify_first: false,
             lost_before: Vec::new(),
             fusion,
-            placed: Vec::new(),
         })
     }
 
@@ -112,12 +109,7 @@ impl<'a> Run<'a> {
         if let Some(trip) = self.trips.last_mut() {
             trip.lost.extend(newly);
         }
-        self.context.perched = self
-            .placed
-            .iter()
-            .filter(|p| lost.contains(&(p.rider, RIDER_LEFT)))
-            .cloned()
-            .collect();
+        self.context.note_lost(&lost);
         if let Some(reason) = self.stop_reason(&observed, &lost) {
             let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
             remaining.extend(lost.iter().map(|(id, _)| *id));
@@ -214,7 +206,7 @@ impl<'a> Run<'a> {
             self.refuse_unless_verified(&record)?;
         }
         place_and_grasp(&mut record, executor)?;
-        self.note_placed(&observed, &record);
+        self.context.note_riders(&observed, &record.plan);
         self.note_pushes(&record.plan.pushes[noted..]);
         if let Some(fusion) = self.fusion.as_mut() {
             fusion.trip_grasped(&record.plan);
@@ -232,24 +224,6 @@ impl<'a> Run<'a> {
         }
         self.trips.push(record);
         Ok(None)
-    }
-
-    /// Notes the riders `record` put down (the trip planned on `observed`), with their rows and
-    /// outlines, in case a look finds one left standing on its row.
-    fn note_placed(&mut self, observed: &Scene, record: &Trip) {
-        for rider in &record.plan.riders {
-            if let Some(i) = observed.index_of(rider.object) {
-                self.placed.retain(|p| p.rider != rider.object);
-                self.placed.push(Perched {
-                    rider: rider.object,
-                    row: record.plan.grasp.objects.clone(),
-                    on: rider.on.clone(),
-                    footprint: observed.objects()[i]
-                        .polygon
-                        .transformed(&rider.place.isometry()),
-                });
-            }
-        }
     }
 
     /// `observed` with the looks fused (`run.fuse_looks`), or as it is.
