@@ -44,7 +44,7 @@ pub struct TripContext {
     placed: Vec<Perched>,
 }
 
-/// A rider still standing on the row it was put down on, its row's grasp having carried it not
+/// A rider still standing on the row it was put down on, its row's grasp not having carried it
 /// (the executor reports it lost as [`crate::exec::RIDER_LEFT`]). A camera that sees it on top
 /// cannot give it a place on the table, but the run knows where it was put and on what.
 #[derive(Clone, Debug, PartialEq)]

@@ -41,7 +41,7 @@ impl Policy {
         };
         if self.settings.riders.enabled {
             let predicted = predict(observed, &corrected.pushes)?;
-            corrected.riders = self.riders_for(&predicted, &corrected, &context.failed)?;
+            corrected.riders = self.riders_for(&predicted, &corrected, context)?;
         }
         Ok(Some(corrected))
     }

@@ -18,7 +18,7 @@
 use nalgebra::{Isometry2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::{Policy, TripPlan};
+use super::{Policy, TripContext, TripPlan};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;
 use crate::grasp::{GraspRequest, JawPose, centre_line_offset};
@@ -103,18 +103,23 @@ impl Riders {
 
 impl Policy {
     /// Riders for `trip`, on `predicted`, the table after its pushes; none when riders are off, the
-    /// grasp takes fewer than two objects, or no object passes (see the module docs). Jaws in
-    /// `avoid` (grasps that failed before) are not proposed for a pick.
+    /// grasp takes fewer than two objects, a rider left standing rests on one of them, or no object
+    /// passes (see the module docs). Jaws where grasps failed before (`context.failed`) are not
+    /// proposed for a pick.
     pub(super) fn riders_for(
         &self,
         predicted: &Scene,
         trip: &TripPlan,
-        avoid: &[JawPose],
+        context: &TripContext,
     ) -> Result<Vec<Rider>> {
         let settings = &self.settings.riders;
-        if !settings.enabled || trip.grasp.objects.len() < 2 {
+        if !settings.enabled
+            || trip.grasp.objects.len() < 2
+            || super::perched::carries_a_rider(context, &trip.grasp.objects)
+        {
             return Ok(Vec::new());
         }
+        let avoid = context.failed.as_slice();
         let members: Vec<usize> = trip
             .grasp
             .objects

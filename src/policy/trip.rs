@@ -78,11 +78,9 @@ impl Policy {
         }
         let trip = match drafted {
             Ok(mut trip) => {
-                if self.settings.riders.enabled
-                    && !super::perched::carries_a_rider(context, &trip.grasp.objects)
-                {
+                if self.settings.riders.enabled {
                     let predicted = predict(scene, &trip.pushes)?;
-                    trip.riders = self.riders_for(&predicted, &trip, &context.failed)?;
+                    trip.riders = self.riders_for(&predicted, &trip, context)?;
                 }
                 Ok(trip)
             }
