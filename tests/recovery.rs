@@ -6,7 +6,7 @@ use pushmog::plan::{Plan, RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
 use pushmog::scene::Scene;
 
-use crate::support::scene;
+use crate::support::{GraspHook, Rigged, scene};
 
 /// The runs of every preset with default settings on `scene` (run seed 1): for each, its plans
 /// applied exactly and then in the simulator (seed 3).
@@ -256,51 +256,6 @@ fn objects_grasped_together_twice_in_vain_are_not_grasped_together_again() {
     assert!(context.failed_together.is_empty());
 }
 
-/// A test executor: the ideal executor, whose grasps go through `hook`.
-struct Rigged<H> {
-    table: pushmog::exec::Ideal,
-    hook: H,
-}
-
-/// What a [`Rigged`] executor does in place of the ideal executor's grasp, and what it reports lost.
-trait GraspHook {
-    fn grasp(
-        &mut self,
-        table: &mut pushmog::exec::Ideal,
-        grasp: &pushmog::grasp::Grasp,
-    ) -> pushmog::Result<pushmog::exec::GraspResult>;
-    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
-        Vec::new()
-    }
-}
-
-impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
-    fn name(&self) -> &'static str {
-        "rigged"
-    }
-    fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
-        self.table.reset(scene)
-    }
-    fn push(
-        &mut self,
-        push: &pushmog::push::Push,
-    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
-        self.table.push(push)
-    }
-    fn grasp(
-        &mut self,
-        grasp: &pushmog::grasp::Grasp,
-    ) -> pushmog::Result<pushmog::exec::GraspResult> {
-        self.hook.grasp(&mut self.table, grasp)
-    }
-    fn observe(&mut self) -> pushmog::Result<Scene> {
-        self.table.observe()
-    }
-    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
-        self.hook.lost()
-    }
-}
-
 /// After its first grasp, loses one object the grasp left (as if pushed out of the workspace): the
 /// object is no longer seen, and `lost` names it.
 struct LosesOne {
@@ -324,7 +279,7 @@ impl GraspHook for LosesOne {
         }
         Ok(result)
     }
-    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+    fn lost(&self, _table: &pushmog::exec::Ideal) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
         self.lost
             .iter()
             .map(|&id| (id, "outside the workspace"))

@@ -90,3 +90,57 @@ pub fn run(kind: pushmog::policy::PolicyKind, scene: &Scene, seed: u64) -> pushm
     let mut executor = policy.ideal();
     policy.run(scene, &mut executor, seed).unwrap()
 }
+
+/// A test executor: the ideal executor, whose grasps go through `hook`; its places are the ideal
+/// executor's.
+pub struct Rigged<H> {
+    pub table: pushmog::exec::Ideal,
+    pub hook: H,
+}
+
+/// What a [`Rigged`] executor does in place of the ideal executor's grasp, and what it reports lost
+/// (by default what the ideal executor reports: riders left standing).
+pub trait GraspHook {
+    fn grasp(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult>;
+    fn lost(&self, table: &pushmog::exec::Ideal) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        use pushmog::exec::Executor;
+        table.lost()
+    }
+}
+
+impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
+    fn name(&self) -> &'static str {
+        "rigged"
+    }
+    fn reset(&mut self, scene: &Scene) -> pushmog::Result<()> {
+        self.table.reset(scene)
+    }
+    fn push(
+        &mut self,
+        push: &pushmog::push::Push,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        self.table.push(push)
+    }
+    fn grasp(
+        &mut self,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        self.hook.grasp(&mut self.table, grasp)
+    }
+    fn observe(&mut self) -> pushmog::Result<Scene> {
+        self.table.observe()
+    }
+    fn place(
+        &mut self,
+        rider: &pushmog::plan::Rider,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        self.table.place(rider)
+    }
+    fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        self.hook.lost(&self.table)
+    }
+}
