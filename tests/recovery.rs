@@ -159,6 +159,86 @@ fn objects_stuck_together_are_pushed_apart() {
     }
 }
 
+/// A regular hexagon and an isosceles triangle pressed together 35 mm from the workspace's far edge,
+/// as a failed pair grasp left them (paper-100 scene 80, push-mog-time with riders). Neither can be
+/// taken by itself (a plate would come down on the other), there is no room between them for the
+/// fingers of a push that would part them, and an edge margin of 40 mm along the plates refuses the
+/// pair. Every clustering preset with that margin takes the two together as they lie, with plans
+/// applied exactly and in the simulator, instead of stopping with both on the table.
+#[test]
+fn objects_pressed_together_near_the_edge_are_taken_together() {
+    use pushmog::exec::{Executor, Sim, SimSettings};
+    use pushmog::grasp::{GraspPlanner, MultiObject, MultiObjectSettings, SingleObject};
+    use pushmog::scene::{Gripper, Object, ObjectId, Pose, Workspace, builtin_object_set};
+    let library = builtin_object_set();
+    let object = |id: u32, name: &str, (x, y, yaw): (f64, f64, f64)| {
+        let shape = library.objects.iter().find(|o| o.name == name).unwrap();
+        Object {
+            id: ObjectId(id),
+            name: Some(name.to_string()),
+            polygon: shape.polygon().unwrap(),
+            pose: Pose::new(x, y, yaw),
+            height: shape.height,
+            mass: shape.mass,
+        }
+    };
+    let objects = vec![
+        object(
+            9,
+            "hexagon-regular-15",
+            (0.4083010931763497, 0.4002104967249667, 2.0609041621099),
+        ),
+        object(
+            10,
+            "triangle-isosceles-32x30",
+            (
+                0.43349137144533745,
+                0.40419074985960335,
+                -1.6864657879113458,
+            ),
+        ),
+    ];
+    let scene = Scene::from_parts(Workspace::new(0.6, 0.45), Gripper::default(), objects).unwrap();
+    let margins = MultiObjectSettings {
+        edge_margin: 0.04,
+        edge_along_plates: true,
+        ..MultiObjectSettings::default()
+    };
+    // What makes the dead end: each alone is refused, and so is the pair with the margin.
+    let problem = pushmog::problem::Problem::shared_default();
+    let single = SingleObject::new(Default::default(), problem.clone()).unwrap();
+    for id in [ObjectId(9), ObjectId(10)] {
+        assert!(
+            single.plan(&scene, &[id]).unwrap().value.is_none(),
+            "{id} alone"
+        );
+    }
+    let both = [ObjectId(9), ObjectId(10)];
+    let with_margin = MultiObject::new(margins.clone(), problem).unwrap();
+    let pair = with_margin.plan(&scene, &both).unwrap().value;
+    assert!(pair.is_none_or(|grasp| grasp.objects.len() < 2));
+    let settings = PolicySettings {
+        multi: margins,
+        ..PolicySettings::default()
+    };
+    for kind in PolicyKind::ALL {
+        if kind == PolicyKind::Sog {
+            continue;
+        }
+        let policy = Policy::new(kind, settings.clone()).unwrap();
+        let mut ideal = policy.ideal();
+        let mut sim = Sim::new(SimSettings::default(), 3).unwrap();
+        for executor in [&mut ideal as &mut dyn Executor, &mut sim] {
+            let plan = policy.run(&scene, executor, 1).unwrap();
+            assert_eq!(plan.status, RunStatus::Cleared, "{kind} {}", plan.executor);
+            assert!(verify(&plan).is_empty(), "{kind}: {:?}", verify(&plan));
+            let mut first = plan.trips[0].plan.grasp.objects.clone();
+            first.sort_unstable();
+            assert_eq!(first, both, "{kind} {}", plan.executor);
+        }
+    }
+}
+
 /// The first of seeds 0–19 whose scene's first trip (context seeded alike) is `wanted`: its table,
 /// seed and trip.
 fn first_trip_where(

@@ -22,7 +22,9 @@
 //! When the push planner finds no row for a whole cluster of three or more, its largest sub-clusters
 //! are tried and the object left out waits for a later trip. When the multi-object planner finds nothing
 //! for a cluster, a single-object grasp of one of its
-//! objects is tried. An attempt that yields no grasp is recorded with its reason and costs no trip; a
+//! objects is tried; when no object of it can be taken by itself, a push that parts it from the
+//! neighbour in its plates' way, and failing that a grasp of it together with that neighbour as they
+//! lie, even within the edge margin (`separate.rs`). An attempt that yields no grasp is recorded with its reason and costs no trip; a
 //! grasp that carries nothing is a trip (a failed grasp). Its jaws are not proposed again, and after
 //! [`GIVE_UP_AFTER`] multi-object grasps of the same objects carried nothing, those objects are no
 //! longer grasped together ([`TripContext`]). A rider left standing on its row by such a grasp
@@ -39,7 +41,7 @@ use serde::{Deserialize, Serialize};
 use crate::cluster::{Clusterer, Hierarchical, RowTest};
 use crate::error::{Error, Result};
 use crate::exec::{Executor, Ideal};
-use crate::grasp::{Grasp, GraspPlanner, MultiObject, SingleObject};
+use crate::grasp::{Grasp, GraspPlanner, MultiObject, MultiObjectSettings, SingleObject};
 use crate::outcome::Abilities;
 use crate::plan::Plan;
 use crate::problem::Problem;
@@ -205,6 +207,10 @@ pub struct Policy {
     /// The built-in multi-object planner, whatever `multi` is: it judges the SOCP's rows and lists
     /// the candidates it refuses ([`Policy::refused_candidates`]).
     judge: MultiObject,
+    /// The built-in multi-object planner without the edge margin, when the policy's has one and
+    /// `multi` was not replaced: the last way out of a dead end near the workspace's edge
+    /// ([`Policy::take_with_neighbours`]).
+    at_edges: Option<Arc<dyn PolicyGraspPlanner>>,
     /// What every stage shares, built once from `settings`.
     problem: Arc<Problem>,
 }
@@ -312,6 +318,18 @@ impl PolicyBuilder {
             settings.row_test()
         };
         let judge = multi_object(&settings, &problem)?;
+        let at_edges = if self.multi.is_none() && settings.multi.edge_margin > 0.0 {
+            let without_margin = PolicySettings {
+                multi: MultiObjectSettings {
+                    edge_margin: 0.0,
+                    ..settings.multi.clone()
+                },
+                ..settings.clone()
+            };
+            Some(Arc::new(multi_object(&without_margin, &problem)?) as Arc<dyn PolicyGraspPlanner>)
+        } else {
+            None
+        };
         let clusterer = match self.clusterer {
             Some(chosen) => chosen,
             None => match self.parts.0.unwrap_or(self.kind.clusterer()) {
@@ -346,6 +364,7 @@ impl PolicyBuilder {
                 Some(chosen) => chosen,
                 None => Arc::new(SingleObject::new(settings.single.clone(), problem.clone())?),
             },
+            at_edges,
             multi: self.multi.unwrap_or_else(|| Arc::new(judge.clone())),
             judge,
             problem,

@@ -1,9 +1,10 @@
-//! The way out of a dead end: objects standing too close for a plate between them, which the grasp
-//! model refuses together, are pushed apart with the jaws closed and one of them grasped alone.
+//! The ways out of a dead end, objects standing too close for a plate between them: pushed apart
+//! with the jaws closed and one of them grasped alone; failing that, grasped together as they lie
+//! with the objects that stand in their plates' way, even within the policy's edge margin.
 
 use nalgebra::Vector2;
 
-use super::Policy;
+use super::{Policy, TripContext};
 use crate::error::Result;
 use crate::geometry::distance;
 use crate::grasp::{Grasp, GraspRequest, JawPose};
@@ -22,6 +23,11 @@ const SEPARATION_DIRECTIONS: usize = 16;
 /// Least room left between a separated object and the workspace's edge, metres (the SOCP's default
 /// edge margin).
 const SEPARATION_EDGE_MARGIN: f64 = 0.005;
+
+/// Neighbours nearer than this to a member stand in the way of a plate beside it, metres: a 10 mm
+/// plate and the single-object planner's clearance on either side (the shortest of
+/// [`SEPARATIONS`]).
+const PLATE_ROOM: f64 = 0.02;
 
 impl Policy {
     /// A push that moves one of `members` away from the object nearest it ([`separating_push`], the
@@ -89,5 +95,46 @@ impl Policy {
             }
         }
         Ok(None)
+    }
+
+    /// A multi-object grasp of `members` together with the objects that stand within
+    /// [`PLATE_ROOM`] of them, on the table as it lies, planned without the edge margin
+    /// (`multi.edge_margin`), avoiding grasps that failed before and sets given up; `None` when
+    /// there is none. The last way out of a dead end that [`Policy::separate`] cannot free: two
+    /// objects pressed together, neither with room for a plate beside the other, whose pair the
+    /// margin refuses because it lies near the workspace's edge. There is no room between them for
+    /// the fingers of a push that would part them, so without this the run stops with both on the
+    /// table. The margin says where a failed pair grasp is more likely to squeeze an object out
+    /// (`formulations/picks-per-hour.md`, "The margins"), not where a pair cannot be held.
+    pub(super) fn take_with_neighbours(
+        &self,
+        observed: &Scene,
+        members: &[ObjectId],
+        context: &TripContext,
+    ) -> Result<Option<Grasp>> {
+        let mut targets = members.to_vec();
+        for &id in members {
+            let Some(index) = observed.index_of(id) else {
+                continue;
+            };
+            let outline = observed.world_polygon(index);
+            for (j, other) in observed.objects().iter().enumerate() {
+                if !targets.contains(&other.id)
+                    && distance(outline, observed.world_polygon(j)) < PLATE_ROOM
+                {
+                    targets.push(other.id);
+                }
+            }
+        }
+        if targets.len() < 2 {
+            return Ok(None);
+        }
+        let planner = self.at_edges.as_deref().unwrap_or(&*self.multi);
+        let outcome = planner.plan_request(
+            &GraspRequest::new(observed, &targets)
+                .avoiding(&context.failed)
+                .several(),
+        )?;
+        Ok(outcome.value.filter(|grasp| context.together(grasp)))
     }
 }

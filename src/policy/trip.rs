@@ -227,6 +227,11 @@ impl Policy {
             let separating = (vec![push], grasp, None, Some(Status::Heuristic));
             return Ok(Ok(draft(separating, skipped)));
         }
+        // Pressed together, with no room for the fingers of a parting push either: together with
+        // the neighbours in the way, as they lie.
+        if let Some(grasp) = self.take_with_neighbours(observed, &members, context)? {
+            return Ok(Ok(draft((Vec::new(), grasp, None, None), skipped)));
+        }
         Ok(Err(NoTrip::NoGraspOfCluster {
             members,
             grasp: single.status,
