@@ -20,11 +20,11 @@
 //! made on the predicted table, as the Push-MOG paper does to save that observation.
 //!
 //! When the push planner finds no row for a whole cluster of three or more, its largest sub-clusters
-//! are tried and the object left out waits for a later trip. When the multi-object planner finds nothing
-//! for a cluster, a single-object grasp of one of its
-//! objects is tried; when no object of it can be taken by itself, a push that parts it from the
-//! neighbour in its plates' way, and failing that a grasp of it together with that neighbour as they
-//! lie, even within the edge margin (`separate.rs`). An attempt that yields no grasp is recorded with its reason and costs no trip; a
+//! are tried and the object left out waits for a later trip. When the multi-object planner finds
+//! nothing for a cluster, a single-object grasp of one of its objects is tried; when no object of it
+//! can be taken by itself, a push that parts it from the neighbour in its plates' way, and failing
+//! that a grasp of it together with that neighbour as they lie, even within the edge margin
+//! (`separate.rs`). An attempt that yields no grasp is recorded with its reason and costs no trip; a
 //! grasp that carries nothing is a trip (a failed grasp). Its jaws are not proposed again, and after
 //! [`GIVE_UP_AFTER`] multi-object grasps of the same objects carried nothing, those objects are no
 //! longer grasped together ([`TripContext`]). A rider left standing on its row by such a grasp
