@@ -159,11 +159,11 @@ fn objects_stuck_together_are_pushed_apart() {
     }
 }
 
-/// A regular hexagon and an isosceles triangle pressed together 35 mm from the workspace's far edge,
-/// as a failed pair grasp left them (paper-100 scene 80, push-mog-time with riders). Neither can be
-/// taken by itself (a plate would come down on the other), there is no room between them for the
-/// fingers of a push that would part them, and an edge margin of 40 mm along the plates refuses the
-/// pair. Every clustering preset with that margin takes the two together as they lie, with plans
+/// A regular hexagon and an isosceles triangle pressed together 29–35 mm from the workspace's far
+/// edge, as a failed pair grasp left them (paper-100 scene 80, push-mog-time with riders). Neither
+/// can be taken by itself (a plate would come down on the other), there is no room between them for
+/// the fingers of a push that would part them, and an edge margin of 40 mm along the plates refuses
+/// the pair. Every clustering preset with that margin takes the two together as they lie, with plans
 /// applied exactly and in the simulator, instead of stopping with both on the table.
 #[test]
 fn objects_pressed_together_near_the_edge_are_taken_together() {
