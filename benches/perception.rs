@@ -1,6 +1,6 @@
 //! `perceive` on a 1280 × 720 depth frame of a 34-object table with the default noise, one thread,
-//! the frame already in memory (issue 40's aim: a median of 20 ms or less), with the default settings
-//! and with `fit_sides`.
+//! the frame already in memory (issue 40's aim: a median of 20 ms or less), with the default settings,
+//! with `fit_sides`, and without `fit_outline` (the median hull alone).
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -25,12 +25,14 @@ fn perception(c: &mut Criterion) {
         depth: Some(Depth::Metres(&depth)),
         ..Frame::default()
     };
-    for (name, fit_sides) in [
-        ("perceive/1280x720/34-objects", false),
-        ("perceive/1280x720/34-objects/fit-sides", true),
+    for (name, fit_sides, fit_outline) in [
+        ("perceive/1280x720/34-objects", false, true),
+        ("perceive/1280x720/34-objects/fit-sides", true, true),
+        ("perceive/1280x720/34-objects/hull-only", false, false),
     ] {
         let settings = PerceptionSettings {
             fit_sides,
+            fit_outline,
             ..PerceptionSettings::default()
         };
         c.bench_function(name, |b| {

@@ -12,7 +12,8 @@
 //! `PUSHMOG_LIBRARY=1` names the objects from the scenes' object set instead (no prior): how many
 //! take their own shape's name (or that of a shape with the same outline), and the yaw error of the
 //! pose found, up to the shape's symmetries.
-//! `PUSHMOG_FIT_SIDES=1` turns on `PerceptionSettings::fit_sides`.
+//! `PUSHMOG_FIT_SIDES=1` turns on `PerceptionSettings::fit_sides`; `PUSHMOG_FIT_OUTLINE=0` turns off
+//! `PerceptionSettings::fit_outline` (the median hull alone, as before that option).
 //! `PUSHMOG_FIRST_SEED` moves the scenes' seeds from `1..=scenes` to start there.
 //! `PUSHMOG_WORST=1` also prints each object missed, and each found with IoU under 0.94 or a d*
 //! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame).
@@ -194,6 +195,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             std::env::var("PUSHMOG_PRIOR").is_ok().then_some(&scene),
             &PerceptionSettings {
                 fit_sides: std::env::var("PUSHMOG_FIT_SIDES").is_ok_and(|v| v == "1"),
+                fit_outline: !std::env::var("PUSHMOG_FIT_OUTLINE").is_ok_and(|v| v == "0"),
                 ..PerceptionSettings::default()
             },
         )?;

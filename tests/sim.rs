@@ -567,9 +567,12 @@ fn the_depth_camera_sees_every_object_of_a_generated_table_where_it_lies() {
 
 /// A calibration error moves what the camera sees as the error says: an offset of the calibrated
 /// optical centre moves every object by its horizontal part (the table's fit takes the vertical
-/// part up), and a turn about the vertical turns them about the camera's nadir, to within 10 µm
-/// (the table's fit picks its pixels near the calibrated table, so a few of them change). The same
-/// frame is perceived each time (the same seed draws the same noise).
+/// part up), and a turn about the vertical turns them about the camera's nadir, to within 10 µm for
+/// the turn and 50 µm for the offset, a 25th of a pixel (the table's fit picks its pixels near the
+/// calibrated table, so a few of them change, and the outline's sides are fitted to every pixel
+/// near the edge, so a pixel that changes side there moves a side a little: 22 µm at most here,
+/// against 10 µm before that fit). The same frame is perceived each time (the same seed draws the
+/// same noise).
 #[test]
 fn a_calibration_error_moves_what_the_camera_sees_by_that_error() {
     use nalgebra::{Point2, Rotation2, Vector2};
@@ -611,8 +614,13 @@ fn a_calibration_error_moves_what_the_camera_sees_by_that_error() {
             scene.objects()[j].world_centroid()
         };
         let moved = find(&shifted) - at;
+        eprintln!(
+            "DEV {} {}",
+            (moved - Vector2::new(0.01, -0.005)).norm(),
+            (find(&turned) - nadir - Rotation2::new(0.01) * (at - nadir)).norm()
+        );
         assert!(
-            (moved - Vector2::new(0.01, -0.005)).norm() < 1e-5,
+            (moved - Vector2::new(0.01, -0.005)).norm() < 5e-5,
             "{moved}"
         );
         let expected = nadir + Rotation2::new(0.01) * (at - nadir);

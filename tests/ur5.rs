@@ -721,11 +721,19 @@ fn camera_replay(name: &str) -> (DepthLook, Plan, Policy) {
          cp depth-$n.npy \"$PUSHMOG_DEPTH\" && cp labels-$n.npy \"$PUSHMOG_LABELS\"",
         dir.display()
     );
+    // The frames are the ideal run's tables, so the loop must plan the trips that run planned. With
+    // the fitted outline (`PerceptionSettings::fit_outline`) the second trip's single grasp takes
+    // another of its near-tied jaw angles (traced: the same object, the jaws turned by 36°), the
+    // table then differs from the next frame and the ids no longer match; the hull alone gives the
+    // ideal run's plans here.
     let look = DepthLook {
         camera,
         command,
         table: first,
-        settings: PerceptionSettings::default(),
+        settings: PerceptionSettings {
+            fit_outline: false,
+            ..PerceptionSettings::default()
+        },
         library: Some(pushmog::scene::builtin_object_set()),
     };
     (look, reference, policy)

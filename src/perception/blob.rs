@@ -108,6 +108,28 @@ fn majority(pixels: &[usize], width: usize, height: usize) -> Vec<usize> {
         .collect()
 }
 
+/// The image outline fitted to the pixels on both sides of the edge of a blob whose pixels above
+/// its cut are `above` (`fit.rs`), from the median hull's corners `corners`, where it agrees with
+/// them ([`super::sides::agrees`]); `None` otherwise.
+fn fitted_outline(
+    corners: &[Point2<f64>],
+    above: &[usize],
+    heights: &[f64],
+    size: (usize, usize),
+) -> Option<Vec<Point2<f64>>> {
+    let mut held = above.to_vec();
+    held.sort_unstable();
+    let inside = |i: usize| {
+        if held.binary_search(&i).is_ok() {
+            Some(true)
+        } else {
+            heights[i].is_finite().then_some(false)
+        }
+    };
+    super::fit::fit_outline(corners, size, inside)
+        .filter(|fitted| super::sides::agrees(fitted, corners))
+}
+
 /// For each edge of the counter-clockwise image loop `corners`, the height at which the blob's
 /// silhouette stands along it: the tenth percentile of the heights of the blob's pixels whose
 /// centres lie within `SILHOUETTE_BAND` pixels inside the edge and along it, kept within
@@ -244,7 +266,8 @@ pub fn judge(
     };
     // Blobs from depth are cut again at half their top: a flying pixel, mixed between the table
     // and the top, then lies above the cut as often outside the edge as below it inside.
-    let (pixels, cut) = match (heights, top) {
+    // `above`: the pixels above the cut before the median, where the cut was made again.
+    let (pixels, above, cut) = match (heights, top) {
         (Some(h), Some(top)) if blob.given_height.is_none() && 0.5 * top > blob.cut => {
             let cut = 0.5 * top;
             let above: Vec<usize> = blob
@@ -253,11 +276,25 @@ pub fn judge(
                 .copied()
                 .filter(|&i| above_cut(h, i, width, cut))
                 .collect();
-            (majority(&above, width, height), cut)
+            (majority(&above, width, height), Some(above), cut)
         }
-        _ => (blob.pixels.clone(), blob.cut),
+        _ => (blob.pixels.clone(), None, blob.cut),
     };
-    let hull = image_hull(&pixels, width, settings.fit_sides);
+    let mut hull = image_hull(&pixels, width, settings.fit_sides);
+    // With depth, the outline's sides are fitted to the pixels on both sides of its edge, from the
+    // median hull (`fit.rs`); the hull is kept where the fit strays from it.
+    if settings.fit_outline
+        && blob.given_height.is_none()
+        && let (Some(h), Some(image)) = (heights, hull.as_mut())
+        && let Some(fitted) = fitted_outline(
+            &image.corners,
+            above.as_deref().unwrap_or(&blob.pixels),
+            h,
+            (width, height),
+        )
+    {
+        image.corners = fitted;
+    }
     let solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
     // A top measured from depth at or below the cut height (a flat thing, or a label lying on the
     // table) stands on nothing the mask holds: no footprint, so the blob is too small.

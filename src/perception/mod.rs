@@ -9,9 +9,11 @@
 //!   components (`blobs.rs`), or given labels grown into that mask;
 //! - the footprint (`footprint.rs`): a blob's image hull back-projected onto the top plane `z = h`
 //!   and onto the cut plane `z = c` gives two polygons whose intersection is exactly the top face of
-//!   an unoccluded convex prism, at any camera tilt (the two-plane theorem); with
+//!   an unoccluded convex prism, at any camera tilt (the two-plane theorem); by default
+//!   ([`PerceptionSettings::fit_outline`]) each side of the image outline is first fitted to the
+//!   pixels on both sides of its edge by a logistic loss (`fit.rs`); with
 //!   [`PerceptionSettings::fit_sides`], the image outline is built from lines fitted to the blob's
-//!   sides, with the corner tips that the median cut put back (`sides.rs`);
+//!   outermost pixels, with the corner tips that the median cut put back (`sides.rs`);
 //! - every blob gets a [`BlobStatus`]; those that block planning keep [`Perception::scene`] from
 //!   giving a scene, so nothing in view is dropped silently;
 //! - ids are kept by matching centroids to a prior scene (`track.rs`), and an object the prior holds
@@ -28,6 +30,7 @@ mod align;
 mod blob;
 mod blobs;
 mod camera;
+mod fit;
 mod footprint;
 mod identify;
 mod input;

@@ -49,6 +49,16 @@ pub struct PerceptionSettings {
     /// when off.
     #[serde(skip_serializing_if = "is_false")]
     pub fit_sides: bool,
+    /// Fit each side of a blob's image outline to the pixels on both sides of its edge, starting from
+    /// the hull (`formulations/perception.md`, "The outline fitted to both sides of the edge"). On by
+    /// default; off gives the hull moved by the area-matching offset alone, as before this option.
+    /// Depth only: labels without depth keep the hull. Left out of written settings when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub fit_outline: bool,
+}
+
+fn is_true(value: &bool) -> bool {
+    *value
 }
 
 fn is_false(value: &bool) -> bool {
@@ -73,6 +83,7 @@ impl Default for PerceptionSettings {
             overlap_repair: 0.002,
             edge_trim: 0.001,
             fit_sides: false,
+            fit_outline: true,
         }
     }
 }

@@ -92,7 +92,7 @@ fn extremes(
 
 /// The counter-clockwise convex loop `hull` simplified to its sides: the indices of the hull
 /// vertices that stay corners, in order.
-fn corners(hull: &[Point2<f64>]) -> Vec<usize> {
+pub(super) fn corners(hull: &[Point2<f64>]) -> Vec<usize> {
     let n = hull.len();
     // Split the loop at its two vertices farthest apart, then each half where it bends most.
     let (mut a, mut b, mut far) = (0, 0, -1.0);
