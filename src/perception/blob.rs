@@ -117,16 +117,7 @@ fn fitted_outline(
     heights: &[f64],
     size: (usize, usize),
 ) -> Option<Vec<Point2<f64>>> {
-    let mut held = above.to_vec();
-    held.sort_unstable();
-    let inside = |i: usize| {
-        if held.binary_search(&i).is_ok() {
-            Some(true)
-        } else {
-            heights[i].is_finite().then_some(false)
-        }
-    };
-    super::fit::fit_outline(corners, size, inside)
+    super::fit::fit_outline(corners, size, above, |i| heights[i].is_finite())
         .filter(|fitted| super::sides::agrees(fitted, corners))
 }
 

@@ -4,7 +4,7 @@
 //! The region a blob covers above its cut is convex (the two-plane theorem), so its outline is an
 //! intersection of half-planes `s_e(p) = d_e − n_e·(p − c_e) ≥ 0`, one per side: `n_e` the outward
 //! normal at angle `θ_e`, `c_e` a fixed point of the side, `d_e` its offset from there. Each pixel
-//! centre `p_i` within [`BAND`] of the starting outline says on which side of the edge it lies:
+//! centre `p_i` from [`BAND`] outside the starting outline to [`DEEP`] inside it says on which side of the edge it lies:
 //! `y_i = +1` when the blob holds it above the cut, `−1` when its depth is known and the blob does
 //! not (the table, the blob's own wall below the cut, another object). Pixels without depth say
 //! nothing. The outline minimises the logistic loss
@@ -21,25 +21,31 @@
 //! median hull simplified into sides as `sides.rs` does; a side moves at most [`BAND`] and turns at
 //! most [`MAX_TURNED`].
 
-use nalgebra::{Matrix2, Point2, Vector2};
+use nalgebra::{Point2, Vector2};
 
 use crate::geometry::{clip, loop_area};
 
 /// The logistic loss's scale, pixels.
 const TAU: f64 = 0.3;
 
-/// How far from the starting outline, pixels, a centre may lie to take part.
-const BAND: f64 = 5.0;
+/// How far outside the starting outline, pixels, a centre may lie to take part: as deep as the
+/// median cuts a sharp tip, and more.
+const BAND: f64 = 4.0;
+
+/// How far inside it: the start's sides lie within a pixel or so of the edge (the area-matching
+/// offset moves them by at most 1.5 pixels), so a centre deeper than this is far inside.
+const DEEP: f64 = 2.0;
 
 /// Rounds of Newton steps, at most.
-const ROUNDS: usize = 12;
+const ROUNDS: usize = 8;
 
 /// The rounds stop once no side moves more than this, pixels (a turn counted at 10 pixels per
 /// radian, the lever of a side's end).
-const SETTLED: f64 = 1e-3;
+const SETTLED: f64 = 0.01;
 
-/// `y·s/τ` beyond which a centre is taken as settled on its own side: `exp(−20)` is 2·10⁻⁹.
-const SURE: f64 = 20.0;
+/// `y·s/τ` beyond which a centre is taken as settled on its own side: its weight in the sums,
+/// `exp(−12)` ≈ 6·10⁻⁶ of its own, is 2·10⁻⁵ of that of a centre on the edge.
+const SURE: f64 = 12.0;
 
 /// The largest step of a side's offset in one round, pixels, and of its angle, radians.
 const MAX_SHIFT: f64 = 0.5;
@@ -81,56 +87,75 @@ impl Side {
     }
 }
 
-/// What the pixels near the edge say: each centre, and `+1` inside or `−1` outside.
+/// What the pixels near the edge say: each centre, `+1` inside or `−1` outside, and the
+/// [`CANDIDATES`] sides nearest it at the start, among which its nearest side stays.
 struct EdgeEvidence {
     points: Vec<Point2<f64>>,
     sides: Vec<f64>,
+    near: Vec<[usize; CANDIDATES]>,
 }
 
+/// How many of the sides nearest a centre at the start it is weighed against later: the two
+/// sides of a corner and a short side across its tip.
+const CANDIDATES: usize = 3;
+
 /// The outline of a blob fitted to the pixels on both sides of its edge (module docs), from the
-/// counter-clockwise image loop `start` (pixels, `(u, v)`), in an image `width` × `height`:
-/// `inside(i)` is `Some(true)` for a pixel the blob holds above its cut, `Some(false)` for one whose
-/// depth is known and that it does not hold, `None` for one without depth. `None` when fewer than
-/// three sides remain or too few pixels speak.
+/// counter-clockwise image loop `start` (pixels, `(u, v)`), in an image `width` × `height`: `above`
+/// are the pixels the blob holds above its cut, `known(i)` says whether pixel `i` has depth. `None`
+/// when fewer than three sides remain or too few pixels speak.
 pub fn fit_outline(
     start: &[Point2<f64>],
     size: (usize, usize),
-    inside: impl Fn(usize) -> Option<bool>,
+    above: &[usize],
+    known: impl Fn(usize) -> bool,
 ) -> Option<Vec<Point2<f64>>> {
     let sides = sides_of(start);
     if sides.len() < 3 {
         return None;
     }
-    let evidence = evidence(start, &sides, size, inside);
+    let evidence = evidence(start, &sides, size, above, known);
     fitted(start, sides, &evidence)
 }
 
-/// The pixels within [`BAND`] of `sides`, as [`fit_outline`] reads them.
+/// The pixels from [`BAND`] outside `sides` to [`DEEP`] inside them, as [`fit_outline`] reads them.
 fn evidence(
     start: &[Point2<f64>],
     sides: &[Side],
     (width, height): (usize, usize),
-    inside: impl Fn(usize) -> Option<bool>,
+    above: &[usize],
+    known: impl Fn(usize) -> bool,
 ) -> EdgeEvidence {
     let (lo, hi) = crate::geometry::point_bounds(start);
     let clampu = |x: f64| x.clamp(0.0, width.saturating_sub(1) as f64) as usize;
     let clampv = |x: f64| x.clamp(0.0, height.saturating_sub(1) as f64) as usize;
     let (u0, u1) = (clampu((lo.x - BAND).floor()), clampu((hi.x + BAND).ceil()));
     let (v0, v1) = (clampv((lo.y - BAND).floor()), clampv((hi.y + BAND).ceil()));
+    // The blob's pixels above the cut, as a bitmap of the box looked at.
+    let box_width = u1 - u0 + 1;
+    let mut held = vec![false; box_width * (v1 - v0 + 1)];
+    for &i in above {
+        let (u, v) = (i % width, i / width);
+        if (u0..=u1).contains(&u) && (v0..=v1).contains(&v) {
+            held[(v - v0) * box_width + (u - u0)] = true;
+        }
+    }
     let mut out = EdgeEvidence {
         points: Vec::new(),
         sides: Vec::new(),
+        near: Vec::new(),
     };
     for v in v0..=v1 {
         for u in u0..=u1 {
             let p = Point2::new(u as f64, v as f64);
             let s = nearest(sides, &p).0;
-            if s.abs() > BAND {
+            if !(-BAND..=DEEP).contains(&s) {
                 continue;
             }
-            if let Some(is_in) = inside(v * width + u) {
+            let is_in = held[(v - v0) * box_width + (u - u0)];
+            if is_in || known(v * width + u) {
                 out.points.push(p);
                 out.sides.push(if is_in { 1.0 } else { -1.0 });
+                out.near.push(candidates(sides, &p));
             }
         }
     }
@@ -160,6 +185,21 @@ fn sides_of(start: &[Point2<f64>]) -> Vec<Side> {
         .collect()
 }
 
+/// The [`CANDIDATES`] sides with the smallest `s_e(p)` (repeating the last when there are fewer).
+fn candidates(sides: &[Side], p: &Point2<f64>) -> [usize; CANDIDATES] {
+    let mut order: Vec<(f64, usize)> = sides.iter().map(|s| s.value(p)).zip(0..).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    std::array::from_fn(|j| order[j.min(order.len() - 1)].1)
+}
+
+/// `min s_e(p)` over the sides `among`, and the side giving it.
+fn nearest_among(sides: &[Side], among: &[usize], p: &Point2<f64>) -> (f64, usize) {
+    among
+        .iter()
+        .map(|&k| (sides[k].value(p), k))
+        .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+}
+
 /// `min_e s_e(p)` and the side giving it.
 fn nearest(sides: &[Side], p: &Point2<f64>) -> (f64, usize) {
     sides
@@ -171,38 +211,51 @@ fn nearest(sides: &[Side], p: &Point2<f64>) -> (f64, usize) {
 
 /// Newton rounds on `sides` (module docs) until they settle or [`ROUNDS`] have run.
 fn settle(sides: &mut [Side], evidence: &EdgeEvidence) {
+    // Per side: the gradient `(g_d, g_θ)` and the Hessian `[[h_dd, h_dθ], [h_dθ, h_θθ]]`.
+    let mut sums = vec![[0.0_f64; 5]; sides.len()];
     for _ in 0..ROUNDS {
-        let mut gradients = vec![Vector2::zeros(); sides.len()];
-        let mut hessians = vec![Matrix2::zeros(); sides.len()];
-        for (p, &y) in evidence.points.iter().zip(&evidence.sides) {
-            let (s, k) = nearest(sides, p);
-            let side = &sides[k];
-            let tangent = Vector2::new(-side.n.y, side.n.x);
-            // ∂s/∂d = 1, ∂s/∂θ = −n'(θ)·(p − c).
-            let j = Vector2::new(1.0, -tangent.dot(&(p - side.c)));
+        sums.iter_mut().for_each(|s| *s = [0.0; 5]);
+        for ((p, &y), among) in evidence
+            .points
+            .iter()
+            .zip(&evidence.sides)
+            .zip(&evidence.near)
+        {
+            let (s, k) = nearest_among(sides, among, p);
             let u = y * s / TAU;
-            // A centre this far on its own side adds nothing to either sum.
+            // A centre this far on its own side adds next to nothing to either sum.
             if u > SURE {
                 continue;
             }
+            let side = &sides[k];
+            // ∂s/∂d = 1, ∂s/∂θ = −n'(θ)·(p − c), n' = (−n_y, n_x).
+            let r = p - side.c;
+            let jt = side.n.y * r.x - side.n.x * r.y;
             let wrong = sigmoid(-u);
-            let weight = wrong * (1.0 - wrong) / (TAU * TAU);
-            gradients[k] += j * (-y * wrong / TAU);
-            hessians[k] += j * j.transpose() * weight;
+            let g = -y * wrong / TAU;
+            let w = wrong * (1.0 - wrong) / (TAU * TAU);
+            let e = &mut sums[k];
+            e[0] += g;
+            e[1] += g * jt;
+            e[2] += w;
+            e[3] += w * jt;
+            e[4] += w * jt * jt;
         }
         let mut largest: f64 = 0.0;
-        for (k, side) in sides.iter_mut().enumerate() {
-            let h = hessians[k];
-            let damping = 1e-3 * (h[(0, 0)] + h[(1, 1)]) + 1e-6;
-            let Some(inverse) = (h + Matrix2::identity() * damping).try_inverse() else {
+        for (side, &[gd, gt, hdd, hdt, htt]) in sides.iter_mut().zip(&sums) {
+            let damping = 1e-3 * (hdd + htt) + 1e-6;
+            let (a, b, c) = (hdd + damping, hdt, htt + damping);
+            let det = a * c - b * b;
+            if !(det.is_finite() && det > 0.0) {
                 continue;
-            };
-            let step = -(inverse * gradients[k]);
+            }
+            // The Newton step −H⁻¹·g of the 2 × 2 system.
+            let (step_d, step_t) = ((-c * gd + b * gt) / det, (b * gd - a * gt) / det);
             let (d, theta) = (side.d, side.theta - side.theta0);
-            side.d = (d + step.x.clamp(-MAX_SHIFT, MAX_SHIFT)).clamp(-BAND, BAND);
-            let turned = (theta + step.y.clamp(-MAX_TURN, MAX_TURN)).clamp(-MAX_TURNED, MAX_TURNED);
+            side.d = (d + step_d.clamp(-MAX_SHIFT, MAX_SHIFT)).clamp(-BAND, BAND);
+            let turned = (theta + step_t.clamp(-MAX_TURN, MAX_TURN)).clamp(-MAX_TURNED, MAX_TURNED);
             side.turn(turned - theta);
-            largest = largest.max(step.x.abs()).max(step.y.abs() * 10.0);
+            largest = largest.max(step_d.abs()).max(step_t.abs() * 10.0);
         }
         if largest < SETTLED {
             break;
@@ -251,6 +304,13 @@ mod tests {
     /// Whether the centre `p` lies inside the convex polygon `truth`.
     fn holds(truth: &ConvexPolygon, p: &Point2<f64>) -> bool {
         point_distance(truth, p) == 0.0
+    }
+
+    /// The pixels for which `held` is true.
+    fn pixels_where(held: impl Fn(usize, &Point2<f64>) -> bool) -> Vec<usize> {
+        (0..SIZE * SIZE)
+            .filter(|&i| held(i, &Point2::new((i % SIZE) as f64, (i / SIZE) as f64)))
+            .collect()
     }
 
     /// The hull of the centres `truth` holds, moved by the area-matching offset: the start the
@@ -329,13 +389,8 @@ mod tests {
             };
             tried += 1;
             let start = start_of(&truth, |_| true);
-            let fitted = fit_outline(&start, (SIZE, SIZE), |i| {
-                Some(holds(
-                    &truth,
-                    &Point2::new((i % SIZE) as f64, (i / SIZE) as f64),
-                ))
-            })
-            .expect("an outline");
+            let above = pixels_where(|_, p| holds(&truth, p));
+            let fitted = fit_outline(&start, (SIZE, SIZE), &above, |_| true).expect("an outline");
             let fitted = tidy_polygon(&fitted).expect("a polygon");
             let v = truth.vertices();
             let n = v.len();
@@ -363,13 +418,8 @@ mod tests {
         .expect("a triangle");
         let tip = Point2::new(95.6, 60.3);
         let start = start_of(&truth, |p| (p - tip).norm() > 4.0);
-        let fitted = fit_outline(&start, (SIZE, SIZE), |i| {
-            Some(holds(
-                &truth,
-                &Point2::new((i % SIZE) as f64, (i / SIZE) as f64),
-            ))
-        })
-        .expect("an outline");
+        let above = pixels_where(|_, p| holds(&truth, p));
+        let fitted = fit_outline(&start, (SIZE, SIZE), &above, |_| true).expect("an outline");
         let fitted = tidy_polygon(&fitted).expect("a polygon");
         let start = tidy_polygon(&start).expect("a polygon");
         assert!(
@@ -422,11 +472,9 @@ mod tests {
                 })
                 .collect();
             let area = |flip: bool| {
-                let fitted = fit_outline(&start, (SIZE, SIZE), |i| {
-                    let p = Point2::new((i % SIZE) as f64, (i / SIZE) as f64);
-                    Some(holds(&truth, &p) != (flip && flips[i]))
-                })
-                .expect("an outline");
+                let above = pixels_where(|i, p| holds(&truth, p) != (flip && flips[i]));
+                let fitted =
+                    fit_outline(&start, (SIZE, SIZE), &above, |_| true).expect("an outline");
                 loop_area(&fitted)
             };
             // The mean outward shift of the four sides, from the area: A = (50 + 2s)².
