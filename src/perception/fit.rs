@@ -322,25 +322,7 @@ mod tests {
             .collect();
         let hull = convex_hull(&centres);
         let delta = super::super::sides::area_matching_offset(&hull, centres.len() as f64);
-        let n = hull.len();
-        // The offset of `footprint.rs`, written out: each edge moved outward by `delta`.
-        let lines: Vec<(Vector2<f64>, f64)> = (0..n)
-            .map(|k| {
-                let e = hull[(k + 1) % n] - hull[k];
-                let normal = Vector2::new(e.y, -e.x) / e.norm();
-                (normal, normal.dot(&hull[k].coords) + delta)
-            })
-            .collect();
-        let far = 4.0 * SIZE as f64;
-        let bounds = vec![
-            Point2::new(-far, -far),
-            Point2::new(far, -far),
-            Point2::new(far, far),
-            Point2::new(-far, far),
-        ];
-        lines
-            .iter()
-            .fold(bounds, |region, (n, d)| clip(&region, n, *d))
+        super::super::footprint::offset(&hull, delta)
     }
 
     /// A random convex polygon of 3 to 6 corners in the image, every corner at least `angle` and

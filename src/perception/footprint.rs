@@ -95,7 +95,7 @@ fn solidity(pixels: &[usize], width: usize, hull: &[Point2<f64>], depth: f64) ->
 }
 
 /// The counter-clockwise convex loop `hull` with every edge moved outward by `delta`.
-fn offset(hull: &[Point2<f64>], delta: f64) -> Vec<Point2<f64>> {
+pub(super) fn offset(hull: &[Point2<f64>], delta: f64) -> Vec<Point2<f64>> {
     let n = hull.len();
     let normal = |k: usize| {
         let edge = hull[(k + 1) % n] - hull[k];
