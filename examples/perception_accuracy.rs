@@ -14,6 +14,7 @@
 //! pose found, up to the shape's symmetries.
 //! `PUSHMOG_FIT_SIDES=1` turns on `PerceptionSettings::fit_sides`; `PUSHMOG_FIT_OUTLINE=0` turns off
 //! `PerceptionSettings::fit_outline` (the median hull alone, as before that option).
+//! `PUSHMOG_OBJECT_SET` names an object-set file (JSON) whose shapes the scenes are made of instead.
 //! `PUSHMOG_FIRST_SEED` moves the scenes' seeds from `1..=scenes` to start there.
 //! `PUSHMOG_WORST=1` also prints each object missed, and each found with IoU under 0.94 or a d*
 //! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame).
@@ -136,7 +137,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|t| t.parse().ok())
         .unwrap_or(1);
     for seed in first..first + scenes {
-        let set = if input == "bars" {
+        let set = if let Ok(path) = std::env::var("PUSHMOG_OBJECT_SET") {
+            serde_json::from_str(&std::fs::read_to_string(path)?)?
+        } else if input == "bars" {
             serde_json::from_str(&std::fs::read_to_string("experiments/thin-bars.json")?)?
         } else {
             builtin_object_set()

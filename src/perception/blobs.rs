@@ -1,5 +1,6 @@
 //! From a height image to blobs: the threshold at the cut height, a 3×3 opening, connected
-//! components (4-neighbours, union-find), and the growth of given instance labels into the mask.
+//! components (4-neighbours, union-find over each row's runs of pixels), and the growth of given
+//! instance labels into the mask.
 
 use std::collections::VecDeque;
 
@@ -160,7 +161,7 @@ impl Window {
     }
 }
 
-/// Disjoint sets over pixel indices, with path halving.
+/// Disjoint sets over indices (of runs of pixels), with path halving.
 struct Sets(Vec<u32>);
 
 impl Sets {
@@ -185,31 +186,51 @@ impl Sets {
 /// Connected components of the set pixels, 4-neighbours: per pixel 0 for unset, else `1..=count`
 /// numbered in the raster order of each component's first pixel; and the count.
 pub fn components(mask: &Mask) -> (Vec<u32>, u32) {
-    let (width, n) = (mask.width, mask.set.len());
-    let mut sets = Sets((0..n as u32).collect());
-    for i in 0..n {
-        if !mask.set[i] {
-            continue;
+    let width = mask.width;
+    // The runs of set pixels, row by row: `(first pixel, one past the last)`; the runs of row `v`
+    // are `runs[rows[v]..rows[v + 1]]`. Runs of consecutive rows that share a column touch.
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut rows = vec![0_usize];
+    for (v, line) in mask.set.chunks(width.max(1)).enumerate() {
+        let mut u = 0;
+        while u < line.len() {
+            if line[u] {
+                let end = u + line[u..].iter().take_while(|&&set| set).count();
+                runs.push((v * width + u, v * width + end));
+                u = end;
+            } else {
+                u += 1;
+            }
         }
-        if i % width > 0 && mask.set[i - 1] {
-            sets.join(i as u32, (i - 1) as u32);
-        }
-        if i >= width && mask.set[i - width] {
-            sets.join(i as u32, (i - width) as u32);
+        rows.push(runs.len());
+    }
+    let mut sets = Sets((0..runs.len() as u32).collect());
+    for v in 1..rows.len().saturating_sub(1) {
+        let (above, here) = (rows[v - 1]..rows[v], rows[v]..rows[v + 1]);
+        let mut a = above.start;
+        for r in here {
+            let (start, end) = (runs[r].0 - width, runs[r].1 - width);
+            // The runs above that end before this one starts touch no later run of this row.
+            while a < above.end && runs[a].1 <= start {
+                a += 1;
+            }
+            let mut k = a;
+            while k < above.end && runs[k].0 < end {
+                sets.join(r as u32, k as u32);
+                k += 1;
+            }
         }
     }
-    let mut names = vec![0_u32; n];
+    let mut names = vec![0_u32; runs.len()];
     let mut count = 0;
-    let mut out = vec![0_u32; n];
-    for (i, (label, &set)) in out.iter_mut().zip(&mask.set).enumerate() {
-        if set {
-            let root = sets.find(i as u32) as usize;
-            if names[root] == 0 {
-                count += 1;
-                names[root] = count;
-            }
-            *label = names[root];
+    let mut out = vec![0_u32; mask.set.len()];
+    for (r, &(start, end)) in runs.iter().enumerate() {
+        let root = sets.find(r as u32) as usize;
+        if names[root] == 0 {
+            count += 1;
+            names[root] = count;
         }
+        out[start..end].fill(names[root]);
     }
     (out, count)
 }

@@ -183,9 +183,14 @@ fn object_mask(heights: &[f64], camera: &Camera, cut: f64) -> (Mask, Vec<u32>) {
         camera.intrinsics.width as usize,
         camera.intrinsics.height as usize,
     );
-    let set = (0..heights.len())
-        .map(|i| above_cut(heights, i, width, cut))
-        .collect();
+    // A pixel with depth is above the cut when its height is (NaN is above nothing); only those
+    // without depth look at their neighbours.
+    let mut set: Vec<bool> = heights.iter().map(|&h| h > cut).collect();
+    for (i, h) in heights.iter().enumerate() {
+        if !h.is_finite() {
+            set[i] = above_cut(heights, i, width, cut);
+        }
+    }
     Mask { width, height, set }.without_specks()
 }
 
@@ -193,10 +198,15 @@ fn object_mask(heights: &[f64], camera: &Camera, cut: f64) -> (Mask, Vec<u32>) {
 /// raster order.
 fn group(labels: &[u32]) -> BTreeMap<u32, Vec<usize>> {
     let mut groups: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-    for (i, &label) in labels.iter().enumerate() {
+    // Runs of one label, each added at once.
+    let mut i = 0;
+    while i < labels.len() {
+        let label = labels[i];
+        let run = labels[i..].iter().take_while(|&&l| l == label).count();
         if label != 0 {
-            groups.entry(label).or_default().push(i);
+            groups.entry(label).or_default().extend(i..i + run);
         }
+        i += run;
     }
     groups
 }
