@@ -124,9 +124,14 @@ fn fits(truth: &Scene, seen: &Perception) -> Vec<f64> {
 /// Generated table `seed`, a 1280 × 720 camera 0.7 m above it tilted 0.1 rad, and the table's
 /// exact and noisy depth (the default noise, drawn with `seed`).
 fn tilted_look(seed: u64) -> (Scene, Camera, Vec<f32>, Vec<f32>) {
+    look_tilted_by(seed, 0.1)
+}
+
+/// As [`tilted_look`], the camera tilted by `tilt` radians.
+fn look_tilted_by(seed: u64, tilt: f64) -> (Scene, Camera, Vec<f32>, Vec<f32>) {
     let truth = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), seed).unwrap();
     let camera = Camera::looking_down(1280, 720, 2.0 * (640.0_f64 / 700.0).atan(), 0.3, 0.225, 0.7)
-        .tilted(0.1);
+        .tilted(tilt);
     let exact = render_depth(&truth, &camera).unwrap().depth;
     let noisy = add_noise(
         &exact,
@@ -204,13 +209,34 @@ fn every_object_of_a_generated_table_is_found_and_matches_its_outline() {
 /// camera tilted) are on average closer to the truth than the hulls, as the side fits put back what
 /// the median cuts from corners; nothing is missed or added, and no object falls below the floor
 /// the hulls meet.
+/// The fit of each object of `truth` (as [`fits`]) in what `settings` perceive of the noisy
+/// `depth`, every object found.
+fn fits_with(
+    truth: &Scene,
+    camera: &Camera,
+    depth: &[f32],
+    settings: &PerceptionSettings,
+) -> Vec<f64> {
+    let frame = Frame {
+        depth: Some(Depth::Metres(depth)),
+        ..Frame::default()
+    };
+    let seen = perceive(
+        &frame,
+        camera,
+        truth.workspace(),
+        truth.gripper(),
+        None,
+        settings,
+    )
+    .unwrap();
+    assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
+    fits(truth, &seen)
+}
+
 #[test]
 fn fitted_sides_fit_the_outlines_better_on_average() {
     let (truth, camera, _, noisy) = tilted_look(4);
-    let frame = Frame {
-        depth: Some(Depth::Metres(&noisy)),
-        ..Frame::default()
-    };
     let mean = |fits: &[f64]| fits.iter().sum::<f64>() / fits.len() as f64;
     let mut means = Vec::new();
     for fit_sides in [false, true] {
@@ -218,17 +244,7 @@ fn fitted_sides_fit_the_outlines_better_on_average() {
             fit_sides,
             ..PerceptionSettings::default()
         };
-        let seen = perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            None,
-            &settings,
-        )
-        .unwrap();
-        assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
-        let fits = fits(&truth, &seen);
+        let fits = fits_with(&truth, &camera, &noisy, &settings);
         assert!(fits.iter().all(|&f| f >= 0.9), "{fits:?}");
         means.push(mean(&fits));
     }
@@ -243,36 +259,14 @@ fn fitted_sides_fit_the_outlines_better_on_average() {
 /// average.
 #[test]
 fn a_side_bent_by_the_median_is_fitted_as_one() {
-    let truth = generate_scene(&GeneratorSettings::default(), &builtin_object_set(), 36).unwrap();
-    let camera = Camera::looking_down(1280, 720, 2.0 * (640.0_f64 / 700.0).atan(), 0.3, 0.225, 0.7);
-    let exact = render_depth(&truth, &camera).unwrap().depth;
-    let noisy = add_noise(
-        &exact,
-        1280,
-        &DepthNoise::default(),
-        &mut SeededRng::new(36),
-    );
-    let frame = Frame {
-        depth: Some(Depth::Metres(&noisy)),
-        ..Frame::default()
-    };
+    let (truth, camera, _, noisy) = look_tilted_by(36, 0.0);
     let k = nearest(&truth, 0.290, 0.086);
     let [hull, fitted] = [false, true].map(|fit_outline| {
         let settings = PerceptionSettings {
             fit_outline,
             ..PerceptionSettings::default()
         };
-        let seen = perceive(
-            &frame,
-            &camera,
-            truth.workspace(),
-            truth.gripper(),
-            None,
-            &settings,
-        )
-        .unwrap();
-        assert_eq!(seen.objects.len(), truth.len(), "{:?}", statuses(&seen));
-        fits(&truth, &seen)
+        fits_with(&truth, &camera, &noisy, &settings)
     });
     assert!(
         fitted[k] >= hull[k],
