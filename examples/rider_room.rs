@@ -54,6 +54,9 @@ fn riders(
                 .collect(),
             heights: members.iter().map(|&i| table.objects()[i].height).collect(),
             axis: nalgebra::Vector2::new(angle.cos(), angle.sin()),
+            // The pads judged from the row as it stands, as when this table was first measured
+            // (`formulations/stacking.md`); the planner also judges them once closed.
+            closing: None,
         };
         for (later, taken) in plan.trips.iter().zip(used.iter_mut()).skip(k + 1) {
             let single = &later.plan.grasp.objects;

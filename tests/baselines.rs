@@ -6,7 +6,7 @@ use pushmog::cluster::{Clusterer, Hierarchical, fits_jaws, separability_conflict
 use pushmog::geometry::ConvexPolygon;
 use pushmog::grasp::{
     GraspModel, GraspPlanner, GraspRequest, JawPose, Mechanics, MultiObject, SingleObject, Squeeze,
-    squeeze,
+    closed_motions, squeeze,
 };
 use pushmog::plan::{RunStatus, verify};
 use pushmog::policy::{Policy, PolicyKind, PolicySettings};
@@ -305,6 +305,50 @@ fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() 
     let [left, right] = gaps(&crowded, &kept.jaws, &[2]);
     let sigma = pushmog::grasp::Noise::default().position_sigma(false);
     assert!(left.min(right) >= 1.5 * sigma - 1e-12, "{left} {right}");
+}
+
+/// The planar closing says where it leaves each member: two 30 mm squares 10 mm apart end
+/// touching, the row centred between the coupled plates and as wide as the squeeze says, each
+/// square slid about 5 mm toward the other without turning. The analytic model does not say.
+#[test]
+fn the_closing_says_where_it_leaves_each_member() {
+    let s = scene(vec![
+        object(0, square(0.03), 0.2, 0.2),
+        object(1, square(0.03), 0.24, 0.2),
+    ]);
+    let jaws = JawPose {
+        center: Point2::new(0.22, 0.2),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    let model = GraspModel::default();
+    let Squeeze::Held { width, .. } = squeeze(&s, &jaws, &model) else {
+        panic!("the pair is held");
+    };
+    let motions = closed_motions(&s, &jaws, &model, &[0, 1]).expect("both members take part");
+    let axis = nalgebra::Vector2::x();
+    let (lo, hi) = [0, 1]
+        .iter()
+        .map(|&i| {
+            s.world_polygon(i)
+                .transformed(&motions[i])
+                .projection(&axis)
+        })
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+            (lo.min(a), hi.max(b))
+        });
+    assert!((hi - lo - width).abs() < 5e-4, "{lo} {hi} {width}");
+    assert!((0.5 * (lo + hi) - 0.22).abs() < 5e-4, "{lo} {hi}");
+    for (i, toward) in [(0, 1.0), (1, -1.0)] {
+        let shift = motions[i].translation.vector;
+        assert!((toward * shift.x - 0.005).abs() < 5e-4, "{i}: {shift}");
+        assert!(motions[i].rotation.angle().abs() < 1e-3, "{i}");
+    }
+    let analytic = GraspModel {
+        mechanics: Mechanics::Analytic,
+        ..model
+    };
+    assert_eq!(closed_motions(&s, &jaws, &analytic, &[0, 1]), None);
 }
 
 #[test]

@@ -38,7 +38,9 @@ use crate::scene::{ObjectId, Scene};
 
 pub use jaws::JawPose;
 pub(crate) use memory::Memory;
-pub use model::{Body, GraspModel, Mechanics, Squeeze, caught_objects, squeeze, squeeze_bodies};
+pub use model::{
+    Body, GraspModel, Mechanics, Squeeze, caught_objects, closed_motions, squeeze, squeeze_bodies,
+};
 pub use multi::{MultiObject, MultiObjectSettings, centre_line_offset};
 pub use outcome::{
     GraspOutcome, Judgement, ModelOutcome, Noise, NoisyCopy, noisy_copy, sample_seed,

@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 use super::{Policy, TripContext, TripPlan};
 use crate::error::{Error, Result};
 use crate::geometry::overlap;
-use crate::grasp::{GraspRequest, JawPose, centre_line_offset};
+use crate::grasp::{GraspRequest, JawPose, centre_line_offset, closed_motions};
 use crate::plan::Rider;
 use crate::scene::{ObjectId, Pose, Scene};
 use crate::stack::{Row, StackSettings, place_rider, plates_carry};
@@ -134,8 +134,11 @@ impl Policy {
         if centre_line_offset(predicted, jaws, &members) > within {
             return Ok(Vec::new());
         }
-        let row = row_of(predicted, &members, jaws);
         let model = self.problem.grasp_model();
+        let mut row = row_of(predicted, &members, jaws);
+        if settings.checks.pads_after_closing {
+            row.closing = closed_motions(predicted, jaws, model, &members);
+        }
         let row_masses: Vec<f64> = members
             .iter()
             .map(|&i| model.mass_of(&predicted.objects()[i]))
@@ -250,6 +253,7 @@ fn row_of(scene: &Scene, members: &[usize], jaws: &JawPose) -> Row {
             .collect(),
         heights: members.iter().map(|&i| scene.objects()[i].height).collect(),
         axis: Vector2::new(jaws.angle.cos(), jaws.angle.sin()),
+        closing: None,
     }
 }
 

@@ -1,6 +1,6 @@
 //! The top of a row: which faces a rider can rest on, and the row's extent along the closing axis.
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::{Isometry2, Point2, Vector2};
 
 use crate::geometry::{ConvexPolygon, convex_hull};
 
@@ -14,6 +14,10 @@ pub struct Row {
     pub heights: Vec<f64>,
     /// The closing axis, a unit vector.
     pub axis: Vector2<f64>,
+    /// Where the jaws, closing, leave each member: its motion in the table frame from where it
+    /// stands (by the grasp model's planar closing, `grasp::closed_motions`). `None`: the row is
+    /// taken to stay as it stands.
+    pub closing: Option<Vec<Isometry2<f64>>>,
 }
 
 impl Row {
@@ -23,6 +27,21 @@ impl Row {
         self.outlines
             .iter()
             .map(|o| o.projection(&self.axis))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            })
+    }
+
+    /// The row's extent along the closing axis once the jaws have closed on it (where the pads
+    /// end), metres; as it stands without a closing.
+    pub fn closed_extent(&self) -> (f64, f64) {
+        let Some(motions) = &self.closing else {
+            return self.extent();
+        };
+        self.outlines
+            .iter()
+            .zip(motions)
+            .map(|(o, m)| o.transformed(m).projection(&self.axis))
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
                 (lo.min(a), hi.max(b))
             })

@@ -53,6 +53,7 @@ fn ride(shift: f64) -> (f64, f64, f64) {
         ],
         heights: vec![0.035, 0.035],
         axis: nalgebra::Vector2::x(),
+        closing: None,
     };
     let rider_outline = square(0.01);
     let stack = StackSettings::default();

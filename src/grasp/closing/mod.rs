@@ -96,9 +96,13 @@ impl Piece {
     }
 
     fn outline(&self) -> ConvexPolygon {
+        self.start.transformed(&self.motion())
+    }
+
+    /// Its motion so far: from where it started to where it is.
+    fn motion(&self) -> Isometry2<f64> {
         let to_origin = Isometry2::translation(-self.start_centroid.x, -self.start_centroid.y);
-        let placed = Isometry2::new(self.position.coords, self.angle);
-        self.start.transformed(&(placed * to_origin))
+        Isometry2::new(self.position.coords, self.angle) * to_origin
     }
 }
 
@@ -203,6 +207,8 @@ pub(super) struct Closed {
     pub squeezing: bool,
     /// Outlines of all the bodies at the end.
     pub outlines: Vec<ConvexPolygon>,
+    /// Each body's motion in the table frame, from where it lay to where it ended.
+    pub motions: Vec<Isometry2<f64>>,
     /// Normals of the contacts between consecutive gripped bodies (from each to the next).
     pub interfaces: Vec<Vector2<f64>>,
 }
@@ -283,6 +289,7 @@ pub(super) fn simulate_closing(
 /// chain is pressed with the grip force from both sides; one that merely touches carries little.
 fn finish(world: &World, squeezing: bool) -> Closed {
     let outlines: Vec<ConvexPolygon> = world.pieces.iter().map(Piece::outline).collect();
+    let motions: Vec<Isometry2<f64>> = world.pieces.iter().map(Piece::motion).collect();
     let n = world.pieces.len();
     let mut pressed = vec![0.0; n];
     for c in &world.last {
@@ -340,6 +347,7 @@ fn finish(world: &World, squeezing: bool) -> Closed {
         opening: world.plates.opening,
         squeezing,
         outlines,
+        motions,
         interfaces,
     }
 }

@@ -29,7 +29,7 @@
 //! The row's predicted width is its extent along `a` after closing. `formulations/references.md` lists
 //! the sources of these conditions (Nguyen 1988; the necessary conditions of the public MOG code).
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::{Isometry2, Point2, Vector2};
 
 pub use super::body::Body;
 use super::jaws::JawPose;
@@ -250,7 +250,35 @@ fn judge_planar(
     jaws: &JawPose,
     model: &GraspModel,
 ) -> Squeeze {
-    // The caught objects and every object the closing might push: within reach of the jaws.
+    let (near, closed) = close_planar(row, bodies, gripper, jaws, model);
+    let gripped: Vec<usize> = closed.gripped.iter().map(|&k| near[k]).collect();
+    if let Some(&lost) = row.caught.iter().find(|i| !gripped.contains(i)) {
+        return Squeeze::Turns { object: lost };
+    }
+    if !closed.squeezing {
+        return Squeeze::Slips {
+            object: row.caught[0],
+        };
+    }
+    if let Err(refusal) = judge_lifting(&gripped, &closed.interfaces, bodies, &jaws.axis(), model) {
+        return refusal;
+    }
+    Squeeze::Held {
+        width: closed.opening - gripper.plate_thickness,
+        objects: gripped,
+    }
+}
+
+/// The planar closing (`closing/`) of `row`'s jaws on the caught objects and every object the
+/// closing might push (those within reach of the jaws): positions in `bodies` of the simulated
+/// ones, and the closing.
+fn close_planar(
+    row: &Row,
+    bodies: &[Body<'_>],
+    gripper: &crate::scene::Gripper,
+    jaws: &JawPose,
+    model: &GraspModel,
+) -> (Vec<usize>, super::closing::Closed) {
     let reach = jaws.opening / 2.0 + gripper.plate_length + NEIGHBOURHOOD;
     let near: Vec<usize> = (0..bodies.len())
         .filter(|&i| {
@@ -268,22 +296,38 @@ fn judge_planar(
         .filter_map(|i| near.iter().position(|j| j == i))
         .collect();
     let closed = super::closing::simulate_closing(&local, &caught, gripper, jaws, model);
-    let gripped: Vec<usize> = closed.gripped.iter().map(|&k| near[k]).collect();
-    if let Some(&lost) = row.caught.iter().find(|i| !gripped.contains(i)) {
-        return Squeeze::Turns { object: lost };
+    (near, closed)
+}
+
+/// Where closing `jaws` in `scene` leaves each of `objects` (scene indices), by the planar
+/// closing: each one's motion in the table frame from where it lies. `None` under the analytic
+/// mechanics (it slides the row together but does not say where the coupled plates leave it), when
+/// the jaws do not form a row, or when an object of `objects` does not take part in the closing.
+pub fn closed_motions(
+    scene: &Scene,
+    jaws: &JawPose,
+    model: &GraspModel,
+    objects: &[usize],
+) -> Option<Vec<Isometry2<f64>>> {
+    if model.mechanics != Mechanics::Planar {
+        return None;
     }
-    if !closed.squeezing {
-        return Squeeze::Slips {
-            object: row.caught[0],
-        };
-    }
-    if let Err(refusal) = judge_lifting(&gripped, &closed.interfaces, bodies, &jaws.axis(), model) {
-        return refusal;
-    }
-    Squeeze::Held {
-        width: closed.opening - gripper.plate_thickness,
-        objects: gripped,
-    }
+    let (listed, bodies) = nearby_bodies(
+        scene,
+        model,
+        &jaws.center,
+        squeeze_reach(jaws, scene.gripper()),
+    );
+    let row = form_row(&bodies, scene.gripper(), jaws, model.contact_tolerance).ok()?;
+    let (near, closed) = close_planar(&row, &bodies, scene.gripper(), jaws, model);
+    objects
+        .iter()
+        .map(|object| {
+            let body = listed.iter().position(|i| i == object)?;
+            let k = near.iter().position(|&j| j == body)?;
+            Some(closed.motions[k])
+        })
+        .collect()
 }
 
 /// The analytic model's judgement of friction in the plane (step 4): each object is held between its
