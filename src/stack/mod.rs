@@ -12,7 +12,10 @@
 //!   edge, `m = max(support_margin, (a/g)·h/2)`; the second term is the tipping bound of a uniform
 //!   prism of height `h`, whose centroid is `h/2` above its base.
 //! - **Clear of the pads**: along `u`, `F` lies within the row's extent `[lo, hi]` inset by
-//!   `pad_margin`, so that no pad can touch it; along the plates it may overhang.
+//!   `pad_margin`, so that no pad can touch it; along the plates it may overhang. Given the row's
+//!   closing ([`Row::closing`], each member's motion `M_j` as the jaws close), the same holds where
+//!   the pads end, `[lo', hi']`, for `M_j F` with `j` the member under the rider's centroid (every
+//!   member it rests on when the centroid lies over a gap).
 //! - **No sliding**: `μ_object ≥ slide_factor · a/g`.
 //! - **Lifting** ([`plates_carry`]): the plates carry the row and its riders by friction,
 //!   `μ_jaw · N ≥ (Σ m_row + Σ m_riders)·g / 2`.
@@ -20,8 +23,9 @@
 //! The search ([`place_rider`]) tries `yaws` turns of the rider. For each, the strip of centroid
 //! positions that keeps `F` clear of the pads is linear in the translation, and so is the support
 //! hull inset by `t`; bisection on `t` finds the largest inset for which they meet, and the centroid
-//! of that meeting is the candidate. The best candidate is then checked exactly against the faces it
-//! meets.
+//! of that meeting is the candidate. With a closing there is one strip per face, shifted by its
+//! member's motion along `u`, and one for all faces. The best candidate is then checked exactly
+//! against the faces it meets and, with a closing, against the closed pads.
 
 mod placement;
 mod support;
