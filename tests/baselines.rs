@@ -307,20 +307,27 @@ fn centring_along_the_axis_balances_the_plates_unless_a_neighbour_is_too_near() 
     assert!(left.min(right) >= 1.5 * sigma - 1e-12, "{left} {right}");
 }
 
+/// Two 30 mm squares, at x = 0.2 m and at `second`, and jaws 85 mm open across them, centred
+/// between them along x.
+fn two_squares(second: f64) -> (Scene, JawPose) {
+    let s = scene(vec![
+        object(0, square(0.03), 0.2, 0.2),
+        object(1, square(0.03), second, 0.2),
+    ]);
+    let jaws = JawPose {
+        center: Point2::new(0.5 * (0.2 + second), 0.2),
+        angle: 0.0,
+        opening: 0.085,
+    };
+    (s, jaws)
+}
+
 /// The planar closing says where it leaves each member: two 30 mm squares 10 mm apart end
 /// touching, the row centred between the coupled plates and as wide as the squeeze says, each
 /// square slid about 5 mm toward the other without turning. The analytic model does not say.
 #[test]
 fn the_closing_says_where_it_leaves_each_member() {
-    let s = scene(vec![
-        object(0, square(0.03), 0.2, 0.2),
-        object(1, square(0.03), 0.24, 0.2),
-    ]);
-    let jaws = JawPose {
-        center: Point2::new(0.22, 0.2),
-        angle: 0.0,
-        opening: 0.085,
-    };
+    let (s, jaws) = two_squares(0.24);
     let model = GraspModel::default();
     let Squeeze::Held { width, .. } = squeeze(&s, &jaws, &model) else {
         panic!("the pair is held");
@@ -353,15 +360,7 @@ fn the_closing_says_where_it_leaves_each_member() {
 
 #[test]
 fn two_squares_side_by_side_are_held_together() {
-    let s = scene(vec![
-        object(0, square(0.03), 0.2, 0.2),
-        object(1, square(0.03), 0.231, 0.2),
-    ]);
-    let jaws = JawPose {
-        center: Point2::new(0.2155, 0.2),
-        angle: 0.0,
-        opening: 0.085,
-    };
+    let (s, jaws) = two_squares(0.231);
     let analytic = GraspModel {
         mechanics: Mechanics::Analytic,
         ..GraspModel::default()
