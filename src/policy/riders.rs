@@ -136,9 +136,6 @@ impl Policy {
         }
         let model = self.problem.grasp_model();
         let mut row = row_of(predicted, &members, jaws);
-        if settings.checks.pads_after_closing {
-            row.closing = closed_motions(predicted, jaws, model, &members);
-        }
         let row_masses: Vec<f64> = members
             .iter()
             .map(|&i| model.mass_of(&predicted.objects()[i]))
@@ -163,6 +160,10 @@ impl Policy {
             })
             .collect();
         offered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // Where the closing leaves the row, simulated only when some object is offered.
+        if settings.checks.pads_after_closing && !offered.is_empty() {
+            row.closing = closed_motions(predicted, jaws, model, &members);
+        }
         for (_, index) in offered {
             let object = &predicted.objects()[index];
             if !plates_carry(

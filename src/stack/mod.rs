@@ -27,6 +27,7 @@
 //! member's motion along `u`, and one for all faces. The best candidate is then checked exactly
 //! against the faces it meets and, with a closing, against the closed pads.
 
+mod closed;
 mod placement;
 mod support;
 
