@@ -5,8 +5,8 @@ use crate::support::boxes;
 use nalgebra::Point2;
 use pushmog::cluster::{
     ClusterMemory, ClusterObjective, Clusterer, CostModel, Hierarchical, HierarchicalSettings,
-    Milp, MilpSettings, RowTest, admits_row, centroid_diameter, compact_candidates, fits_jaws,
-    split_unrowable,
+    Milp, MilpSettings, RideOptions, RowTest, admits_row, centroid_diameter, compact_candidates,
+    fits_jaws, ride_worth, split_unrowable,
 };
 use pushmog::experiment::compare_clustering;
 use pushmog::geometry::{ConvexPolygon, separating_line};
@@ -44,7 +44,37 @@ fn partitions(n: usize) -> Vec<Vec<usize>> {
 /// that stand in a row, which the MILP keeps as candidates), found by enumeration with no use of the
 /// MILP's candidates or rows.
 fn brute_force(scene: &Scene, objective: ClusterObjective, settings: &MilpSettings) -> f64 {
-    brute_force_with(scene, objective, settings, true)
+    brute_force_with(scene, objective, settings, true, None)
+}
+
+/// The most a clustering gains from riders: the best assignment of its single objects to its rows,
+/// one rider per row, by trying every one (`worth` of a row and a rider, `None` when not offered).
+fn best_rides(clusters: &[Vec<usize>], worth: &dyn Fn(&[usize], usize) -> Option<f64>) -> f64 {
+    fn assign(
+        rows: &[&Vec<usize>],
+        singles: &mut Vec<usize>,
+        worth: &dyn Fn(&[usize], usize) -> Option<f64>,
+    ) -> f64 {
+        let Some((row, rest)) = rows.split_first() else {
+            return 0.0;
+        };
+        let mut best = assign(rest, singles, worth);
+        for k in 0..singles.len() {
+            if let Some(w) = worth(row, singles[k]) {
+                let rider = singles.remove(k);
+                best = best.max(w + assign(rest, singles, worth));
+                singles.insert(k, rider);
+            }
+        }
+        best
+    }
+    let rows: Vec<&Vec<usize>> = clusters.iter().filter(|c| c.len() >= 2).collect();
+    let mut singles: Vec<usize> = clusters
+        .iter()
+        .filter(|c| c.len() == 1)
+        .map(|c| c[0])
+        .collect();
+    assign(&rows, &mut singles, worth)
 }
 
 fn brute_force_with(
@@ -52,6 +82,7 @@ fn brute_force_with(
     objective: ClusterObjective,
     settings: &MilpSettings,
     require_separable: bool,
+    rides: Option<&RideOptions>,
 ) -> f64 {
     let n = scene.len();
     let limit = scene.gripper().usable_gap() - RowTest::default().margin;
@@ -101,7 +132,13 @@ fn brute_force_with(
                 (a + 1..blocks).all(|b| separating_line(&points[a], &points[b], 1e-9).is_some())
             });
         if separable {
-            best = best.min(cost.clustering_cost(&clusters));
+            let gained = rides.map_or(0.0, |options| {
+                let problem = Problem::default();
+                best_rides(&clusters, &|row, rider| {
+                    ride_worth(scene, row, rider, &cost, &problem, options).map(|(w, _)| w)
+                })
+            });
+            best = best.min(cost.clustering_cost(&clusters) - gained);
         }
     }
     best
@@ -209,7 +246,7 @@ fn matches_brute_force(backend: pushmog::cluster::MilpBackend) {
             if outcome.value.clusters.iter().any(|c| c.len() > 1) {
                 grouped += 1;
             }
-            if brute_force_with(&scene, objective, &settings, false) < best - 1e-9 {
+            if brute_force_with(&scene, objective, &settings, false, None) < best - 1e-9 {
                 separability_binds += 1;
             }
         }
@@ -221,6 +258,60 @@ fn matches_brute_force(backend: pushmog::cluster::MilpBackend) {
         "{checked} instances, {grouped} with groups, separability binding on {separability_binds}"
     );
     assert!(separability_binds >= 1, "separability never binds");
+}
+
+/// With riders in the model (`Milp::with_rides`), the optimum of 40 small instances is the one
+/// brute force finds over every separable partition and every assignment of its single objects to
+/// its rows; every rider named rides on a row of the clustering and is a cluster of its own.
+#[test]
+fn milp_with_riders_matches_brute_force() {
+    let options = RideOptions {
+        checks: pushmog::stack::StackSettings::default(),
+        carried: 1.0,
+        reach: 0.15,
+    };
+    let (mut checked, mut with_riders) = (0, 0);
+    for seed in 0..20u64 {
+        let n = 5 + (seed as usize % 4); // 5 to 8 objects
+        let scene = small_scene(n, 100 + seed);
+        for objective in [ClusterObjective::Time, ClusterObjective::FewestClusters] {
+            let settings = MilpSettings {
+                objective,
+                max_cluster_size: n,
+                max_diameter: f64::INFINITY,
+                ..MilpSettings::default()
+            };
+            let outcome = Milp::new(settings.clone(), Problem::shared_default())
+                .unwrap()
+                .with_rides(options.clone())
+                .unwrap()
+                .cluster(&scene)
+                .unwrap();
+            assert_eq!(outcome.status, Status::Optimal, "seed {seed} {objective:?}");
+            let found = outcome.stats.objective.unwrap();
+            let best = brute_force_with(&scene, objective, &settings, true, Some(&options));
+            assert!(
+                (found - best).abs() <= 1e-9,
+                "seed {seed}, {n} objects, {objective:?}: milp {found}, brute force {best}"
+            );
+            let clustering = &outcome.value;
+            assert!(verify_clustering(&scene, clustering).is_empty());
+            for ride in &clustering.riders {
+                assert!(clustering.clusters.contains(&vec![ride.rider]));
+                assert!(clustering.clusters.contains(&ride.row) && ride.row.len() >= 2);
+            }
+            checked += 1;
+            if !clustering.riders.is_empty() {
+                with_riders += 1;
+            }
+        }
+    }
+    println!("{checked} instances, {with_riders} with riders");
+    // The instances exercise the rides: most optima put a rider on a row.
+    assert!(
+        with_riders >= checked / 2,
+        "{with_riders} of {checked} with riders"
+    );
 }
 
 #[test]

@@ -38,6 +38,38 @@ fn riders_ride_on_rows_and_save_trips() {
     );
 }
 
+/// Riders chosen by the clustering (`riders.in_clustering`, `formulations/stacking.md`, "Riders in
+/// the clustering"), plans applied exactly: every plan verifies and clears its table, no trip takes
+/// by itself an object its clustering put on a row, and the riders the trips place include ones
+/// the clustering chose for that row.
+#[test]
+fn riders_chosen_by_the_clustering_ride_their_rows() {
+    let mut settings = crate::support::with_riders();
+    settings.riders.in_clustering = true;
+    let policy = Policy::new(PolicyKind::PushMogOpt, settings).unwrap();
+    let (mut named, mut honoured) = (0, 0);
+    for seed in 1..=2 {
+        let table = scene(seed);
+        let plan = policy.run(&table, &mut policy.ideal(), seed).unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared), "seed {seed}");
+        for trip in &plan.trips {
+            let clustering = &trip.plan.clustering;
+            let grasped = &trip.plan.grasp.objects;
+            assert!(
+                !(grasped.len() == 1 && clustering.is_rider(grasped[0])),
+                "seed {seed}: a rider of the clustering taken by itself"
+            );
+            if let Some(rider) = clustering.rider_on(grasped) {
+                named += 1;
+                honoured += usize::from(trip.plan.riders.iter().any(|r| r.object == rider));
+            }
+        }
+    }
+    println!("{honoured} of {named} rows placed the rider their clustering chose");
+    assert!(honoured > 0, "{honoured} of {named}");
+}
+
 /// Riders go only on rows whose members' centroids lie within the plates' length of their centre
 /// line, inset by the support margin (`formulations/stacking.md`, "Rows held off their centre"):
 /// checked on the table the riders were chosen on, the last look's after the pushes that follow it.

@@ -1,13 +1,14 @@
 //! The clustering model split into independent parts (`formulations/clustering.md`, "Independent
 //! parts").
 //!
-//! Two objects are tied when one candidate holds both, or when a candidate holding one clashes with
-//! a candidate holding the other. The classes of the ties (connected components, by union–find) are
+//! Two objects are tied when one candidate holds both, when a candidate holding one clashes with
+//! a candidate holding the other, or when one may ride on a row that holds the other. The classes of the ties (connected components, by union–find) are
 //! independent: no row of the model holds variables of two classes, so the model's optimum is the
 //! union of the classes' optima, its objective their sum, and it is proven optimal when every part
 //! is. Branch and bound on the whole model multiplies the parts' search trees together; solved one
 //! by one, a table of 1000 objects is hundreds of small models.
 
+use super::riders::RideVar;
 use super::solved::Solved;
 use crate::outcome::Status;
 
@@ -28,6 +29,10 @@ pub(super) struct Part {
     pub clashes: Vec<(usize, usize)>,
     /// The warm start's candidates in the part.
     pub warm: Vec<usize>,
+    /// The part's rides, their row and single renumbered as the part's candidates.
+    pub rides: Vec<RideVar>,
+    /// Positions of the part's rides in the whole model, ascending.
+    pub rides_global: Vec<usize>,
 }
 
 fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -53,6 +58,7 @@ pub(super) fn parts(
     costs: &[f64],
     clashes: &[(usize, usize)],
     warm: &[usize],
+    rides: &[RideVar],
 ) -> Vec<Part> {
     let mut parent: Vec<usize> = (0..objects).collect();
     for candidate in candidates {
@@ -62,6 +68,14 @@ pub(super) fn parts(
     }
     for &(a, b) in clashes {
         if let (Some(&x), Some(&y)) = (candidates[a].first(), candidates[b].first()) {
+            join(&mut parent, x, y);
+        }
+    }
+    for ride in rides {
+        if let (Some(&x), Some(&y)) = (
+            candidates[ride.row].first(),
+            candidates[ride.single].first(),
+        ) {
             join(&mut parent, x, y);
         }
     }
@@ -80,6 +94,8 @@ pub(super) fn parts(
                 covering: Vec::new(),
                 clashes: Vec::new(),
                 warm: Vec::new(),
+                rides: Vec::new(),
+                rides_global: Vec::new(),
             });
         }
         parts[number[r]].objects.push(i);
@@ -107,6 +123,17 @@ pub(super) fn parts(
             parts[part_of[k]].warm.push(local[k]);
         }
     }
+    for (global, ride) in rides.iter().enumerate() {
+        let p = part_of[ride.row];
+        if p != usize::MAX {
+            parts[p].rides.push(RideVar {
+                row: local[ride.row],
+                single: local[ride.single],
+                ..*ride
+            });
+            parts[p].rides_global.push(global);
+        }
+    }
     for part in &mut parts {
         let row: std::collections::HashMap<usize, usize> = part
             .objects
@@ -132,6 +159,7 @@ impl Part {
             Solved {
                 status: Status::Optimal,
                 chosen: vec![0],
+                riding: Vec::new(),
                 bound: Some(self.costs[0]),
                 gap: Some(0.0),
                 nodes: Some(0),
@@ -168,6 +196,11 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> (Solved, usize) {
     if solved.len() == 1 {
         let (part, mut answer) = solved.into_iter().next().expect("one part");
         answer.chosen = answer.chosen.iter().map(|&k| part.global[k]).collect();
+        answer.riding = answer
+            .riding
+            .iter()
+            .map(|&k| part.rides_global[k])
+            .collect();
         return (answer, 0);
     }
     let count = solved.len();
@@ -192,17 +225,20 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> (Solved, usize) {
         .map(|(_, s)| s.iterations)
         .sum::<Option<u64>>();
     let mut chosen: Vec<usize> = Vec::new();
+    let mut riding: Vec<usize> = Vec::new();
     let mut fell_back = 0;
     for (part, answer) in &solved {
         let local = if answer.chosen.is_empty() {
             fell_back += 1;
             &part.warm
         } else {
+            riding.extend(answer.riding.iter().map(|&k| part.rides_global[k]));
             &answer.chosen
         };
         chosen.extend(local.iter().map(|&k| part.global[k]));
     }
     chosen.sort_unstable();
+    riding.sort_unstable();
     let (status, weakest_backend) = weakest.expect("at least two parts");
     let merged = Solved {
         backend_status: if status == Status::Optimal {
@@ -214,6 +250,7 @@ pub(super) fn merge(solved: Vec<(Part, Solved)>) -> (Solved, usize) {
         },
         status,
         chosen,
+        riding,
         bound,
         gap,
         nodes,

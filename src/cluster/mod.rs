@@ -17,6 +17,7 @@ mod hierarchical;
 mod milp;
 mod objective;
 mod reuse;
+mod riders;
 mod separability;
 mod solved;
 mod split;
@@ -33,6 +34,7 @@ pub use hierarchical::{Hierarchical, HierarchicalSettings, Linkage};
 pub use milp::{FlushPairs, Milp, MilpBackend, MilpSettings, RowTest};
 pub use objective::{ClusterObjective, CostModel, centroid_diameter, estimated_pushes, spread};
 pub use reuse::ClusterMemory;
+pub use riders::{Ride, RideOptions, predicted_row, ride_worth};
 pub use separability::{repair_separability, separability_conflicts};
 pub use split::{SplitSettings, split_until_valid};
 
@@ -50,6 +52,11 @@ pub struct Clustering {
     /// in part, and why; absent otherwise and for other clusterers.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fallback: Option<Fallback>,
+    /// Riders the clustering puts on its rows ([`Milp::with_rides`]): each rider is also a cluster
+    /// of its own, and rides on its row's trip instead of taking one. Empty (and left out) for
+    /// clusterers that choose no riders.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub riders: Vec<Ride>,
 }
 
 /// Why the MILP's clustering is, in whole or in part, the heuristic's (which it is seeded with).
@@ -94,6 +101,7 @@ impl Clustering {
                 .collect(),
             status: None,
             fallback: None,
+            riders: Vec::new(),
         }
     }
 
@@ -113,7 +121,26 @@ impl Clustering {
             cluster.sort_unstable();
         }
         self.clusters.sort();
+        for ride in &mut self.riders {
+            ride.row.sort_unstable();
+        }
+        self.riders.sort();
         self
+    }
+
+    /// The rider this clustering puts on `row` (its members, in any order), if any.
+    pub fn rider_on(&self, row: &[ObjectId]) -> Option<ObjectId> {
+        let mut sorted = row.to_vec();
+        sorted.sort_unstable();
+        self.riders
+            .iter()
+            .find(|ride| ride.row == sorted)
+            .map(|ride| ride.rider)
+    }
+
+    /// Whether this clustering puts `object` on a row as a rider.
+    pub fn is_rider(&self, object: ObjectId) -> bool {
+        self.riders.iter().any(|ride| ride.rider == object)
     }
 }
 

@@ -54,6 +54,11 @@ impl<'a> CostModel<'a> {
         }
     }
 
+    /// The objective these costs are of.
+    pub fn objective(&self) -> ClusterObjective {
+        self.objective
+    }
+
     /// The weight `ε` of spread in the fewest-clusters objective.
     pub fn epsilon(&self) -> f64 {
         self.epsilon

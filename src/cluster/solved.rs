@@ -9,6 +9,8 @@ pub(super) struct Solved {
     pub status: Status,
     /// Positions of the chosen candidates, ascending.
     pub chosen: Vec<usize>,
+    /// Positions of the chosen rides among the model's rides (`riders.rs`), ascending.
+    pub riding: Vec<usize>,
     /// Best bound on the objective, when known.
     pub bound: Option<f64>,
     /// Relative gap, when known.
@@ -27,6 +29,7 @@ impl Solved {
         Self {
             status: Status::Optimal,
             chosen: Vec::new(),
+            riding: Vec::new(),
             bound: Some(0.0),
             gap: Some(0.0),
             nodes: Some(0),

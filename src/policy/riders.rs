@@ -39,6 +39,24 @@ pub struct Riders {
     /// riders on training scenes 7001-7100 (simulated with noise, riders not priced) were carried
     /// by their trip (`formulations/stacking.md`).
     pub carried: f64,
+    /// Let the optimal clustering choose riders with its rows (`formulations/stacking.md`, "Riders
+    /// in the clustering"): a single object it puts on a row is offered to that row first, is
+    /// offered to no other row, and takes no trip of its own while its row is on the table.
+    /// Default false (riders chosen trip by trip among the clustering's singles, nearest first);
+    /// left out of written settings when false. Only the MILP clusterer chooses riders.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub in_clustering: bool,
+    /// With `in_clustering`: riders are looked for within this distance of a candidate row's mean
+    /// centroid, metres (bounds the model's size). Default 0.15; left out of written settings when
+    /// the default.
+    #[serde(skip_serializing_if = "is_default_reach")]
+    pub reach: f64,
+}
+
+const DEFAULT_REACH: f64 = 0.15;
+
+fn is_default_reach(reach: &f64) -> bool {
+    *reach == DEFAULT_REACH
 }
 
 impl Default for Riders {
@@ -47,6 +65,8 @@ impl Default for Riders {
             enabled: false,
             checks: StackSettings::default(),
             carried: 0.967,
+            in_clustering: false,
+            reach: DEFAULT_REACH,
         }
     }
 }
@@ -91,6 +111,7 @@ impl Riders {
         if c.yaws == 0 {
             return Err(Error::field("riders.checks", "yaws", "must be at least 1"));
         }
+        crate::error::in_range("riders", "reach", self.reach, (1e-6, 10.0), "metres")?;
         crate::error::in_range(
             "riders",
             "carried",
@@ -148,15 +169,22 @@ impl Policy {
             .copied()
             .chain(trip.pushes.iter().map(|p| p.object))
             .collect();
-        let mut offered: Vec<(f64, usize)> = trip
-            .clustering
+        // The rider the clustering chose for this row goes first; riders it chose for other rows
+        // are not offered.
+        let clustering = &trip.clustering;
+        let chosen = clustering.rider_on(&trip.grasp.objects);
+        let mut offered: Vec<(f64, usize)> = clustering
             .clusters
             .iter()
             .filter(|cluster| cluster.len() == 1 && !busy.contains(&cluster[0]))
+            .filter(|cluster| Some(cluster[0]) == chosen || !clustering.is_rider(cluster[0]))
             .filter_map(|cluster| predicted.index_of(cluster[0]))
             .map(|i| {
-                let at = predicted.objects()[i].world_centroid();
-                (nalgebra::distance(&at, &jaws.center), i)
+                let object = &predicted.objects()[i];
+                let first = Some(object.id) == chosen;
+                let at = object.world_centroid();
+                let distance = nalgebra::distance(&at, &jaws.center);
+                (if first { f64::NEG_INFINITY } else { distance }, i)
             })
             .collect();
         offered.sort_by(|a, b| a.0.total_cmp(&b.0));

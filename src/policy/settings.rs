@@ -155,14 +155,24 @@ impl PolicySettings {
 
     /// The MILP clusterer of these settings: `milp` with the shared `problem`, proposing the
     /// clusters that pass `rows` (in a policy whose pushes are the SOCP's, [`Self::row_test`]),
-    /// seeded by the `clustering` heuristic.
+    /// seeded by the `clustering` heuristic; choosing riders for its rows when `riders.enabled`
+    /// and `riders.in_clustering`.
     ///
     /// # Errors
     /// [`Error::InvalidField`] naming the field.
     pub fn milp_clusterer(&self, problem: Arc<Problem>, rows: RowTest) -> Result<Milp> {
-        Ok(Milp::new(self.milp.clone(), problem)?
+        let milp = Milp::new(self.milp.clone(), problem)?
             .with_rows(rows)?
-            .seeded_by(Hierarchical::new(self.clustering.clone())?))
+            .seeded_by(Hierarchical::new(self.clustering.clone())?);
+        let riders = &self.riders;
+        if riders.enabled && riders.in_clustering {
+            return milp.with_rides(crate::cluster::RideOptions {
+                checks: riders.checks.clone(),
+                carried: riders.carried,
+                reach: riders.reach,
+            });
+        }
+        Ok(milp)
     }
 
     pub(super) fn validate_stages(&self) -> Result<()> {

@@ -155,7 +155,7 @@ impl Policy {
             status: Some(clustered.status),
             ..clustered.value
         };
-        let candidates: Vec<usize> = (0..clustering.len())
+        let mut candidates: Vec<usize> = (0..clustering.len())
             .filter(|&k| {
                 clustering.clusters[k]
                     .iter()
@@ -163,6 +163,15 @@ impl Policy {
                     .any(|i| observed.is_graspable(i))
             })
             .collect();
+        // A rider the clustering put on a row rides that row's trip and takes none of its own,
+        // unless nothing else is left to take.
+        let rides = |k: &usize| match clustering.clusters[*k][..] {
+            [only] => clustering.is_rider(only),
+            _ => false,
+        };
+        if candidates.iter().any(|k| !rides(k)) {
+            candidates.retain(|k| !rides(k));
+        }
         if candidates.is_empty() {
             return Ok(Err(NoTrip::NoClusterFitsTheJaws));
         }

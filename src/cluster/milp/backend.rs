@@ -16,8 +16,14 @@ pub(super) struct Model<'a> {
     pub costs: &'a [f64],
     pub covering: &'a [Vec<usize>],
     pub clashes: &'a [(usize, usize)],
+    /// Riders that may ride on rows, with the costs of their `y` (`riders.rs`): `(row, single,
+    /// cost)`, the cost negative for a saving.
+    pub rides: &'a [(usize, usize, f64)],
     pub warm: &'a [usize],
-    /// Fix the number of clusters (the second stage of the fewest-clusters objective).
+    /// Positions of the rides taken in the warm start.
+    pub warm_riding: &'a [usize],
+    /// Fix the number of trips, clusters less riders (the second stage of the fewest-clusters
+    /// objective).
     pub count: Option<usize>,
     pub mip_gap: f64,
     pub time_limit: f64,
@@ -35,14 +41,15 @@ impl Milp {
     }
 
     fn solve_microlp(&self, model: &Model<'_>) -> Solved {
-        let (problem, x, rows) = build(model);
-        let solver = match configured(problem.using(good_lp::microlp), model, &x, rows) {
+        let (problem, x, y, rows) = build(model);
+        let solver = match configured(problem.using(good_lp::microlp), model, &x, &y, rows) {
             Ok(solver) => solver,
             Err(reason) => return failed(reason),
         };
         match solver.solve() {
             Ok(solution) => {
                 let chosen = chosen(&x, |v| solution.value(v));
+                let riding = self::chosen(&y, |v| solution.value(v));
                 let inner = solution.into_inner();
                 let stats = inner.stats();
                 let reason = inner.termination_reason();
@@ -58,6 +65,7 @@ impl Milp {
                 Solved {
                     status,
                     chosen,
+                    riding,
                     bound: stats.best_bound,
                     gap: inner.gap(),
                     nodes: Some(stats.nodes_solved),
@@ -71,8 +79,8 @@ impl Milp {
 
     #[cfg(feature = "highs")]
     fn solve_highs(&self, model: &Model<'_>) -> Solved {
-        let (problem, x, rows) = build(model);
-        let solver = match configured(problem.using(good_lp::highs), model, &x, rows) {
+        let (problem, x, y, rows) = build(model);
+        let solver = match configured(problem.using(good_lp::highs), model, &x, &y, rows) {
             Ok(solver) => solver,
             Err(reason) => return failed(reason),
         };
@@ -85,6 +93,7 @@ impl Milp {
                 };
                 Solved {
                     chosen: chosen(&x, |v| solution.value(v)),
+                    riding: chosen(&y, |v| solution.value(v)),
                     backend_status: format!("highs: {:?}", solution.status()),
                     status,
                     bound: None,
@@ -104,6 +113,7 @@ fn configured<S>(
     mut solver: S,
     model: &Model<'_>,
     x: &[Variable],
+    y: &[Variable],
     rows: Vec<Constraint>,
 ) -> Result<S, String>
 where
@@ -111,7 +121,7 @@ where
 {
     solver = solver
         .with_time_limit(model.time_limit)
-        .with_initial_solution(warm_start(model, x));
+        .with_initial_solution(warm_start(model, x, y));
     if model.mip_gap > 0.0 {
         solver = solver
             .with_mip_gap(model.mip_gap as f32)
@@ -128,6 +138,7 @@ fn failed(reason: String) -> Solved {
         backend_status: reason.clone(),
         status: Status::Failed { reason },
         chosen: Vec::new(),
+        riding: Vec::new(),
         bound: None,
         gap: None,
         nodes: None,
@@ -149,11 +160,12 @@ fn resolution_failure(error: ResolutionError) -> Solved {
     }
 }
 
-/// The backend-independent model: variables, objective and rows.
+/// The backend-independent model: variables (`x` per candidate, `y` per ride), objective and rows.
 fn build(
     model: &Model<'_>,
 ) -> (
     good_lp::variable::UnsolvedProblem,
+    Vec<Variable>,
     Vec<Variable>,
     Vec<Constraint>,
 ) {
@@ -163,7 +175,17 @@ fn build(
         .iter()
         .map(|_| variables.add(variable().binary()))
         .collect();
-    let objective: Expression = x.iter().zip(model.costs).map(|(&v, &c)| c * v).sum();
+    let y: Vec<Variable> = model
+        .rides
+        .iter()
+        .map(|_| variables.add(variable().binary()))
+        .collect();
+    let objective: Expression = x
+        .iter()
+        .zip(model.costs)
+        .map(|(&v, &c)| c * v)
+        .chain(y.iter().zip(model.rides).map(|(&v, &(_, _, c))| c * v))
+        .sum();
     let mut rows = Vec::with_capacity(model.covering.len() + model.clashes.len());
     for cover in model.covering {
         let sum: Expression = cover.iter().map(|&k| x[k]).sum();
@@ -172,17 +194,38 @@ fn build(
     for &(a, b) in model.clashes {
         rows.push(good_lp::constraint::leq(x[a] + x[b], 1.0));
     }
+    // One rider per chosen row; a rider on one row, and only while it is a cluster of its own.
+    let mut on_row: std::collections::BTreeMap<usize, Expression> = Default::default();
+    let mut of_single: std::collections::BTreeMap<usize, Expression> = Default::default();
+    for (&v, &(row, single, _)) in y.iter().zip(model.rides) {
+        *on_row.entry(row).or_default() += v;
+        *of_single.entry(single).or_default() += v;
+    }
+    for (k, sum) in on_row.into_iter().chain(of_single) {
+        rows.push(good_lp::constraint::leq(sum, x[k]));
+    }
     if let Some(count) = model.count {
-        let all: Expression = x.iter().copied().sum();
+        let all: Expression =
+            x.iter().copied().sum::<Expression>() - y.iter().copied().sum::<Expression>();
         rows.push(good_lp::constraint::eq(all, count as f64));
     }
-    (variables.minimise(objective), x, rows)
+    (variables.minimise(objective), x, y, rows)
 }
 
-fn warm_start(model: &Model<'_>, x: &[Variable]) -> Vec<(Variable, f64)> {
+fn warm_start(model: &Model<'_>, x: &[Variable], y: &[Variable]) -> Vec<(Variable, f64)> {
     x.iter()
         .enumerate()
         .map(|(k, &v)| (v, if model.warm.contains(&k) { 1.0 } else { 0.0 }))
+        .chain(y.iter().enumerate().map(|(k, &v)| {
+            (
+                v,
+                if model.warm_riding.contains(&k) {
+                    1.0
+                } else {
+                    0.0
+                },
+            )
+        }))
         .collect()
 }
 

@@ -34,6 +34,7 @@ use super::decompose;
 use super::hierarchical::Hierarchical;
 use super::objective::{ClusterObjective, CostModel, centroid_diameter};
 use super::reuse::{self, ClusterMemory};
+use super::riders::{Ride, RideOptions, RideVar, ride_vars};
 use super::separability::separability_conflicts;
 use super::solved::Solved;
 use super::{Clusterer, Clustering, Fallback};
@@ -54,6 +55,8 @@ pub struct Milp {
     rows: RowTest,
     /// The heuristic whose clusters join the candidates and warm-start the solver.
     heuristic: Hierarchical,
+    /// Riders the model may put on rows (`riders.rs`); none when `None`.
+    rides: Option<RideOptions>,
 }
 
 impl Default for Milp {
@@ -77,6 +80,7 @@ impl Milp {
             problem,
             rows: RowTest::default(),
             heuristic: Hierarchical::default(),
+            rides: None,
         })
     }
 
@@ -94,6 +98,26 @@ impl Milp {
     pub fn seeded_by(mut self, heuristic: Hierarchical) -> Self {
         self.heuristic = heuristic;
         self
+    }
+
+    /// The same clusterer choosing riders for its rows too (`formulations/stacking.md`, "Riders in
+    /// the clustering"): the clustering it returns lists them in [`Clustering::riders`]. With
+    /// riders the previous optimum is not reused; every table is solved.
+    ///
+    /// # Errors
+    /// [`Error::InvalidField`](crate::error::Error::InvalidField) (`riders`) when `carried` is
+    /// outside 0 to 1 or `reach` is not positive.
+    pub fn with_rides(mut self, options: RideOptions) -> Result<Self> {
+        crate::error::in_range(
+            "riders",
+            "carried",
+            options.carried,
+            (0.0, 1.0),
+            "the probability that a placed rider rides its trip to the bin",
+        )?;
+        crate::error::in_range("riders", "reach", options.reach, (1e-6, 10.0), "metres")?;
+        self.rides = Some(options);
+        Ok(self)
     }
 
     /// The effective settings.
@@ -126,6 +150,8 @@ struct Instance<'a> {
     clashes: Vec<(usize, usize)>,
     /// Positions in `candidates` of the heuristic's clusters.
     warm: Vec<usize>,
+    /// The riders that may ride on rows (`riders.rs`).
+    rides: Vec<RideVar>,
     /// The heuristic's clusters as taken (scene indices), and their cost.
     heuristic: (Vec<Vec<usize>>, f64),
 }
@@ -257,12 +283,17 @@ impl Milp {
             )));
         };
         let heuristic_cost = costs_model.clustering_cost(&heuristic_clusters);
+        let rides = match &self.rides {
+            Some(options) => ride_vars(scene, &candidates, &costs_model, &self.problem, options),
+            None => Vec::new(),
+        };
         Ok(Ok(Instance {
             candidates,
             costs_model,
             costs,
             clashes,
             warm,
+            rides,
             heuristic: (heuristic_clusters, heuristic_cost),
         }))
     }
@@ -282,17 +313,21 @@ impl Milp {
             clashes,
             warm,
             costs_model,
+            rides,
             ..
         } = instance;
         let reused = match self.settings.objective {
-            ClusterObjective::Time => memory.still_optimal(scene, candidates, costs),
-            ClusterObjective::FewestClusters => None,
+            ClusterObjective::Time if self.rides.is_none() => {
+                memory.still_optimal(scene, candidates, costs)
+            }
+            _ => None,
         };
         if let Some(chosen) = reused {
             let cost: f64 = chosen.iter().map(|&k| costs[k]).sum();
             let solved = Solved {
                 status: Status::Optimal,
                 chosen,
+                riding: Vec::new(),
                 bound: Some(cost),
                 gap: Some(0.0),
                 nodes: Some(0),
@@ -312,7 +347,7 @@ impl Milp {
         }
         let (mut parts, mut rounds) = (0, 0);
         let mut solved_parts = Vec::new();
-        for mut part in decompose::parts(scene.len(), candidates, costs, clashes, warm) {
+        for mut part in decompose::parts(scene.len(), candidates, costs, clashes, warm, rides) {
             parts += 1;
             let answer = match part.trivial() {
                 Some(answer) => answer,
@@ -374,9 +409,11 @@ impl Clusterer for Milp {
             candidates,
             costs_model,
             costs,
+            rides,
             heuristic: (heuristic_clusters, heuristic_cost),
             ..
         } = instance;
+        let chosen_rides: Vec<RideVar> = solved.riding.iter().map(|&k| rides[k]).collect();
 
         let picked: Vec<Vec<usize>> = solved
             .chosen
@@ -389,13 +426,17 @@ impl Clusterer for Milp {
             all == (0..scene.len()).collect::<Vec<_>>()
         };
         let separable = is_partition && separability_conflicts(scene, &picked).is_empty();
-        let solver_cost = costs_model.clustering_cost(&picked);
+        let rides_hold = rides_hold(&chosen_rides, &solved.chosen);
+        let solver_cost = costs_model.clustering_cost(&picked)
+            - chosen_rides.iter().map(|r| r.worth).sum::<f64>();
         let fallback = if picked.is_empty() && !scene.is_empty() {
             Some(Fallback::NoAnswer)
         } else if !is_partition {
             Some(Fallback::NotAPartition)
         } else if !separable {
             Some(Fallback::NotSeparable)
+        } else if !rides_hold {
+            Some(Fallback::NotAPartition)
         } else if solver_cost > heuristic_cost + 1e-9 {
             Some(Fallback::DearerThanHeuristic)
         } else if parts_fell_back > 0 {
@@ -405,7 +446,7 @@ impl Clusterer for Milp {
         } else {
             None
         };
-        let whole_fallback = !(separable && solver_cost <= heuristic_cost + 1e-9);
+        let whole_fallback = !(separable && rides_hold && solver_cost <= heuristic_cost + 1e-9);
         let (clusters, objective, fell_back) = if whole_fallback {
             (heuristic_clusters, heuristic_cost, true)
         } else {
@@ -421,10 +462,30 @@ impl Clusterer for Milp {
         let proven = settings.objective == ClusterObjective::Time
             && solved.status == Status::Optimal
             && !fell_back;
-        memory
-            .set(proven.then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)));
+        memory.set(
+            (proven && self.rides.is_none())
+                .then(|| reuse::Previous::new(scene, &candidates, &costs, &solved.chosen)),
+        );
+        let ids = |members: &[usize]| -> Vec<crate::scene::ObjectId> {
+            let mut ids: Vec<_> = members.iter().map(|&i| scene.objects()[i].id).collect();
+            ids.sort_unstable();
+            ids
+        };
+        let mut riders: Vec<Ride> = if whole_fallback {
+            Vec::new()
+        } else {
+            chosen_rides
+                .iter()
+                .map(|r| Ride {
+                    rider: scene.objects()[candidates[r.single][0]].id,
+                    row: ids(&candidates[r.row]),
+                })
+                .collect()
+        };
+        riders.sort();
         let clustering = Clustering {
             fallback,
+            riders,
             ..Clustering::from_indices(scene, &clusters).normalised()
         };
         let mut counters = vec![
@@ -440,6 +501,10 @@ impl Clusterer for Milp {
             ("fell_back".to_string(), if fell_back { 1.0 } else { 0.0 }),
             ("clusters".to_string(), clustering.len() as f64),
         ];
+        if self.rides.is_some() {
+            counters.push(("rides_offered".to_string(), rides.len() as f64));
+            counters.push(("riders".to_string(), clustering.riders.len() as f64));
+        }
         if let Some(nodes) = solved.nodes {
             counters.push(("nodes".to_string(), nodes as f64));
         }
@@ -459,6 +524,19 @@ impl Clusterer for Milp {
             },
         })
     }
+}
+
+/// Whether every chosen ride stands on a chosen row and a chosen single, one rider per row and one
+/// row per rider (the model's rows say so; checked as the partition is).
+fn rides_hold(rides: &[RideVar], chosen: &[usize]) -> bool {
+    let mut rows = HashSet::new();
+    let mut singles = HashSet::new();
+    rides.iter().all(|r| {
+        chosen.contains(&r.row)
+            && chosen.contains(&r.single)
+            && rows.insert(r.row)
+            && singles.insert(r.single)
+    })
 }
 
 /// The heuristic's clustering, with no optimality claim, when the model could not be built within

@@ -72,9 +72,25 @@ impl Milp {
             covering,
             clashes,
             warm,
+            rides,
             ..
         } = part;
-        let mut stage = |costs: &[f64], gap: f64, count: Option<usize>, warm: &[usize]| {
+        // Each ride's cost: its saving, negative, or (second stage of fewest clusters) its
+        // distance, as spread.
+        let ride_costs = |cost: &dyn Fn(&crate::cluster::riders::RideVar) -> f64| {
+            rides
+                .iter()
+                .map(|r| (r.row, r.single, cost(r)))
+                .collect::<Vec<_>>()
+        };
+        let saving = ride_costs(&|r| -r.worth);
+        let one_trip = ride_costs(&|_| -1.0);
+        let distance = ride_costs(&|r| r.distance);
+        let mut stage = |costs: &[f64],
+                         rides: &[(usize, usize, f64)],
+                         gap: f64,
+                         count: Option<usize>,
+                         warm: (&[usize], &[usize])| {
             self.stage(
                 scene,
                 candidates,
@@ -84,7 +100,9 @@ impl Milp {
                     costs,
                     covering,
                     clashes: &[],
-                    warm,
+                    rides,
+                    warm: warm.0,
+                    warm_riding: warm.1,
                     count,
                     mip_gap: gap,
                     time_limit: 0.0,
@@ -94,40 +112,48 @@ impl Milp {
             )
         };
         match settings.objective {
-            ClusterObjective::Time => stage(costs, settings.mip_gap, None, warm),
+            ClusterObjective::Time => stage(costs, &saving, settings.mip_gap, None, (warm, &[])),
             ClusterObjective::FewestClusters if !settings.two_stage_fewest_clusters => {
-                stage(costs, settings.mip_gap, None, warm)
+                stage(costs, &saving, settings.mip_gap, None, (warm, &[]))
             }
             ClusterObjective::FewestClusters => {
                 // Stage 1: fewest clusters. The count is an integer, so a gap below one cluster
                 // proves it; stage 2: least spread among clusterings with that count.
                 let ones = vec![1.0; candidates.len()];
                 let proof_gap = settings.mip_gap.max(0.99 / warm.len().max(1) as f64);
-                let first = stage(&ones, proof_gap, None, warm);
+                let first = stage(&ones, &one_trip, proof_gap, None, (warm, &[]));
                 if first.chosen.is_empty() {
                     return first;
                 }
-                let count = first.chosen.len();
+                // Trips: clusters less the riders, who take none of their own.
+                let count = first.chosen.len() - first.riding.len();
                 let count_proven = first.status == Status::Optimal
                     || first
                         .bound
                         .is_some_and(|b| (b - 1e-6).ceil() >= count as f64);
                 let spreads: Vec<f64> = candidates.iter().map(|c| spread(scene, c)).collect();
-                let second = stage(&spreads, settings.mip_gap, Some(count), &first.chosen);
+                let second = stage(
+                    &spreads,
+                    &distance,
+                    settings.mip_gap,
+                    Some(count),
+                    (&first.chosen, &first.riding),
+                );
                 let epsilon = costs_model.epsilon();
                 let status = match (&second.status, count_proven) {
                     (Status::Optimal, true) => Status::Optimal,
                     (Status::Optimal | Status::Feasible, _) => Status::Feasible,
                     (other, _) => other.clone(),
                 };
-                let chosen = if second.chosen.is_empty() {
-                    first.chosen
+                let (chosen, riding) = if second.chosen.is_empty() {
+                    (first.chosen, first.riding)
                 } else {
-                    second.chosen
+                    (second.chosen, second.riding)
                 };
                 Solved {
                     status,
                     chosen,
+                    riding,
                     bound: match (count_proven, second.bound) {
                         (true, Some(b)) => Some(count as f64 + epsilon * b),
                         _ => first.bound,
