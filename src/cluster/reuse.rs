@@ -120,11 +120,15 @@ impl Previous {
 }
 
 /// What a clusterer remembers from one trip of a run to the next: the last proven optimum of the
-/// time objective, reused while it provably stays optimal (the module docs). It travels with the
-/// run (`policy::TripContext`), so a planner keeps no state between calls and two runs never
-/// share one; a fresh memory (the default) makes the clusterer solve afresh.
+/// time objective, reused while it provably stays optimal (the module docs), and the rows that
+/// earlier trips pushed together and that wait for their grasps ([`ClusterMemory::hold`]). It
+/// travels with the run (`policy::TripContext`), so a planner keeps no state between calls and two
+/// runs never share one; a fresh memory (the default) makes the clusterer solve afresh.
 #[derive(Clone, Debug, Default)]
-pub struct ClusterMemory(Option<Previous>);
+pub struct ClusterMemory {
+    previous: Option<Previous>,
+    held: Vec<Vec<ObjectId>>,
+}
 
 impl ClusterMemory {
     /// [`Previous::still_optimal`] of the remembered optimum, if any.
@@ -134,18 +138,31 @@ impl ClusterMemory {
         candidates: &[Vec<usize>],
         costs: &[f64],
     ) -> Option<Vec<usize>> {
-        self.0
+        self.previous
             .as_ref()
             .and_then(|p| p.still_optimal(scene, candidates, costs))
     }
 
     /// Remembers `previous`, or forgets when `None`.
     pub(super) fn set(&mut self, previous: Option<Previous>) {
-        self.0 = previous;
+        self.previous = previous;
     }
 
     /// Whether an optimum is remembered.
     pub fn is_empty(&self) -> bool {
-        self.0.is_none()
+        self.previous.is_none()
+    }
+
+    /// Says which rows earlier trips pushed together and still wait for their grasps (the policy's
+    /// rows pushed ahead). With riders in the model ([`super::Milp::with_rides`]) no member of
+    /// such a row is offered as a rider: the push that made the row is spent, which the model's
+    /// push estimate does not know (`formulations/stacking.md`, "Riders in the clustering").
+    pub fn hold(&mut self, rows: Vec<Vec<ObjectId>>) {
+        self.held = rows;
+    }
+
+    /// The rows said to wait for their grasps.
+    pub fn held(&self) -> &[Vec<ObjectId>] {
+        &self.held
     }
 }

@@ -19,7 +19,9 @@
 //! members packed along their narrowest closing axis, `ROW_GAP` apart, their centroids on one line
 //! through the mean centroid (the jaws' centre line), turns unchanged. The pads are judged as that
 //! row stands (not where the closing leaves it, which needs the jaws the policy plans later); the
-//! policy checks the ride again on the table predicted after the real pushes.
+//! policy checks the ride again on the table predicted after the real pushes. No member of a row
+//! that an earlier trip pushed together and that waits for its grasp ([`super::ClusterMemory::hold`])
+//! is offered as a rider: the model would price that row's push again, though it is spent.
 //!
 //! The worth `v`: under the time objective the seconds it is expected to save,
 //! `v = q_r·(T_trip + T_look) − ΔT_place`, with `q_r` the probability that the rider rides, `T_trip`
@@ -120,17 +122,24 @@ pub fn predicted_row(scene: &Scene, members: &[usize]) -> Option<Row> {
 }
 
 /// The rides offered on `candidates` (scene indices; the single-object candidates are the riders'
-/// own clusters), by the module docs' rule.
+/// own clusters), by the module docs' rule; no member of a row in `held` (rows already pushed
+/// together, waiting for their grasps) is offered as a rider.
 pub(super) fn ride_vars(
     scene: &Scene,
     candidates: &[Vec<usize>],
     costs: &CostModel<'_>,
     problem: &Problem,
     options: &RideOptions,
+    held: &[Vec<ObjectId>],
 ) -> Vec<RideVar> {
     let mut single_of = vec![None; scene.len()];
     for (k, candidate) in candidates.iter().enumerate() {
-        if let [only] = candidate[..] {
+        if let [only] = candidate[..]
+            && !held
+                .iter()
+                .flatten()
+                .any(|&id| id == scene.objects()[only].id)
+        {
             single_of[only] = Some(k);
         }
     }

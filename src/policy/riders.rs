@@ -169,25 +169,29 @@ impl Policy {
             .copied()
             .chain(trip.pushes.iter().map(|p| p.object))
             .collect();
-        // The rider the clustering chose for this row goes first; riders it chose for other rows
-        // are not offered.
+        // The rider the clustering chose for this row goes first, then the singles it chose for no
+        // row, then those it chose for other rows (a row may never form), each nearest first.
         let clustering = &trip.clustering;
         let chosen = clustering.rider_on(&trip.grasp.objects);
-        let mut offered: Vec<(f64, usize)> = clustering
+        let mut offered: Vec<((u8, f64), usize)> = clustering
             .clusters
             .iter()
             .filter(|cluster| cluster.len() == 1 && !busy.contains(&cluster[0]))
-            .filter(|cluster| Some(cluster[0]) == chosen || !clustering.is_rider(cluster[0]))
             .filter_map(|cluster| predicted.index_of(cluster[0]))
             .map(|i| {
                 let object = &predicted.objects()[i];
-                let first = Some(object.id) == chosen;
+                let rank = if Some(object.id) == chosen {
+                    0
+                } else if clustering.is_rider(object.id) {
+                    2
+                } else {
+                    1
+                };
                 let at = object.world_centroid();
-                let distance = nalgebra::distance(&at, &jaws.center);
-                (if first { f64::NEG_INFINITY } else { distance }, i)
+                ((rank, nalgebra::distance(&at, &jaws.center)), i)
             })
             .collect();
-        offered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        offered.sort_by(|a, b| a.0.0.cmp(&b.0.0).then(a.0.1.total_cmp(&b.0.1)));
         // Where the closing leaves the row, simulated only when some object is offered.
         if settings.checks.pads_after_closing && !offered.is_empty() {
             row.closing = closed_motions(predicted, jaws, model, &members);

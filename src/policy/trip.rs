@@ -148,6 +148,7 @@ impl Policy {
         clustering_seconds: &mut Option<f64>,
     ) -> Result<std::result::Result<TripPlan, NoTrip>> {
         let started = Instant::now();
+        context.clusterings.hold(context.ahead.clone());
         let clustered = clusterer.cluster_remembering(observed, &mut context.clusterings)?;
         *clustering_seconds = Some(started.elapsed().as_secs_f64());
         // The status goes with the clustering into the trip and the record.

@@ -222,6 +222,7 @@ impl Milp {
         &'a self,
         scene: &'a Scene,
         heuristic: &Clustering,
+        held: &[Vec<crate::scene::ObjectId>],
         deadline: Instant,
     ) -> Result<std::result::Result<Instance<'a>, String>> {
         let settings = &self.settings;
@@ -284,7 +285,14 @@ impl Milp {
         };
         let heuristic_cost = costs_model.clustering_cost(&heuristic_clusters);
         let rides = match &self.rides {
-            Some(options) => ride_vars(scene, &candidates, &costs_model, &self.problem, options),
+            Some(options) => ride_vars(
+                scene,
+                &candidates,
+                &costs_model,
+                &self.problem,
+                options,
+                held,
+            ),
             None => Vec::new(),
         };
         Ok(Ok(Instance {
@@ -393,7 +401,8 @@ impl Clusterer for Milp {
         let settings = &self.settings;
         let heuristic = self.heuristic.cluster(scene)?;
         let deadline = started + std::time::Duration::from_secs_f64(settings.time_limit);
-        let instance = match self.instance(scene, &heuristic.value, deadline)? {
+        let held = memory.held().to_vec();
+        let instance = match self.instance(scene, &heuristic.value, &held, deadline)? {
             Ok(instance) => instance,
             Err(what) => return Ok(gave_up(&what, heuristic.value, started)),
         };
