@@ -41,7 +41,8 @@ fn riders_ride_on_rows_and_save_trips() {
 /// Riders chosen by the clustering (`riders.in_clustering`, `formulations/stacking.md`, "Riders in
 /// the clustering"), plans applied exactly: every plan verifies and clears its table, no trip takes
 /// by itself an object its clustering put on a row, and the riders the trips place include ones
-/// the clustering chose for that row.
+/// the clustering chose for that row; the verifier refuses rides that are not on the clustering's
+/// own rows and singles.
 #[test]
 fn riders_chosen_by_the_clustering_ride_their_rows() {
     let mut settings = crate::support::with_riders();
@@ -68,6 +69,19 @@ fn riders_chosen_by_the_clustering_ride_their_rows() {
     }
     println!("{honoured} of {named} rows placed the rider their clustering chose");
     assert!(honoured > 0, "{honoured} of {named}");
+    // The verifier refuses a ride whose rider is a member of a row, or whose row is no cluster.
+    let table = scene(1);
+    let trip = policy.plan_trip(&table).unwrap().trip.unwrap();
+    let mut clustering = trip.clustering.clone();
+    assert!(pushmog::plan::verify_clustering(&table, &clustering).is_empty());
+    let ride = clustering.riders[0].clone();
+    clustering.riders[0].rider = ride.row[0];
+    assert!(!pushmog::plan::verify_clustering(&table, &clustering).is_empty());
+    clustering.riders[0] = pushmog::cluster::Ride {
+        row: vec![ride.rider, ride.row[0]],
+        ..ride
+    };
+    assert!(!pushmog::plan::verify_clustering(&table, &clustering).is_empty());
 }
 
 /// Riders go only on rows whose members' centroids lie within the plates' length of their centre

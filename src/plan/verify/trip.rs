@@ -171,5 +171,43 @@ pub fn verify_clustering(scene: &Scene, clustering: &Clustering) -> Vec<String> 
     for (a, b) in inseparable {
         found.push(format!("clusters {a} and {b} are not separable by a line"));
     }
+    // Riders the clustering chose: each a cluster of its own, on a row of two or more that is a
+    // cluster, one rider per row and one row per rider.
+    for (k, ride) in clustering.riders.iter().enumerate() {
+        let mut row = ride.row.clone();
+        row.sort_unstable();
+        let is_cluster = |members: &[ObjectId]| {
+            clusters.iter().any(|c| {
+                let mut c = c.clone();
+                c.sort_unstable();
+                c == members
+            })
+        };
+        if !is_cluster(&[ride.rider]) {
+            found.push(format!(
+                "rider {k} (object {}) is not a cluster of its own",
+                ride.rider
+            ));
+        }
+        if row.len() < 2 || !is_cluster(&row) {
+            found.push(format!(
+                "rider {k} (object {}) rides on no row of the clustering",
+                ride.rider
+            ));
+        }
+        let twice = clustering.riders[..k].iter().any(|other| {
+            other.rider == ride.rider || {
+                let mut r = other.row.clone();
+                r.sort_unstable();
+                r == row
+            }
+        });
+        if twice {
+            found.push(format!(
+                "rider {k} (object {}): a second ride for the same rider or row",
+                ride.rider
+            ));
+        }
+    }
     found
 }
