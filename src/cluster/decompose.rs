@@ -2,11 +2,12 @@
 //! parts").
 //!
 //! Two objects are tied when one candidate holds both, when a candidate holding one clashes with
-//! a candidate holding the other, or when one may ride on a row that holds the other. The classes of the ties (connected components, by union–find) are
-//! independent: no row of the model holds variables of two classes, so the model's optimum is the
-//! union of the classes' optima, its objective their sum, and it is proven optimal when every part
-//! is. Branch and bound on the whole model multiplies the parts' search trees together; solved one
-//! by one, a table of 1000 objects is hundreds of small models.
+//! a candidate holding the other, or when one may ride on a row that holds the other. The classes
+//! of the ties (connected components, by union–find) are independent: no row of the model holds
+//! variables of two classes, so the model's optimum is the union of the classes' optima, its
+//! objective their sum, and it is proven optimal when every part is. Branch and bound on the whole
+//! model multiplies the parts' search trees together; solved one by one, a table of 1000 objects
+//! is hundreds of small models.
 
 use super::riders::RideVar;
 use super::solved::Solved;

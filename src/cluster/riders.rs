@@ -20,8 +20,9 @@
 //! through the mean centroid (the jaws' centre line), turns unchanged. The pads are judged as that
 //! row stands (not where the closing leaves it, which needs the jaws the policy plans later); the
 //! policy checks the ride again on the table predicted after the real pushes. No member of a row
-//! that an earlier trip pushed together and that waits for its grasp ([`super::ClusterMemory::hold`])
-//! is offered as a rider: the model would price that row's push again, though it is spent.
+//! that an earlier trip pushed together and that waits for its grasp
+//! ([`super::ClusterMemory::hold`]) is offered as a rider: the model would price that row's push
+//! again, though it is spent.
 //!
 //! The worth `v`: under the time objective the seconds it is expected to save,
 //! `v = q_r·(T_trip + T_look) − ΔT_place`, with `q_r` the probability that the rider rides, `T_trip`
