@@ -149,10 +149,10 @@ pub(super) fn ride_vars(
         if members.len() < 2 {
             continue;
         }
+        let row = RowToRide::new(scene, members, problem);
         for (r, single) in single_of.iter().enumerate() {
             let Some(single) = *single else { continue };
-            if let Some((worth, distance)) = ride_worth(scene, members, r, costs, problem, options)
-            {
+            if let Some((worth, distance)) = row.worth(scene, r, costs, problem, options) {
                 rides.push(RideVar {
                     row: k,
                     single,
@@ -177,50 +177,81 @@ pub fn ride_worth(
     problem: &Problem,
     options: &RideOptions,
 ) -> Option<(f64, f64)> {
-    if members.contains(&rider) {
-        return None;
-    }
-    let mean = Point2::from(
-        members
-            .iter()
-            .map(|&m| scene.centroid(m).coords)
-            .sum::<Vector2<f64>>()
-            / members.len().max(1) as f64,
-    );
-    let distance = nalgebra::distance(&scene.centroid(rider), &mean);
-    if distance > options.reach {
-        return None;
-    }
-    let row = predicted_row(scene, members)?;
-    let model = problem.grasp_model();
-    let row_masses: Vec<f64> = members
-        .iter()
-        .map(|&m| model.mass_of(&scene.objects()[m]))
-        .collect();
-    let object = &scene.objects()[rider];
-    let mass = model.mass_of(object);
-    if !plates_carry(model.friction_jaw, model.grip_force, &row_masses, &[mass]) {
-        return None;
-    }
-    place_rider(
-        &row,
-        &object.polygon,
-        object.height,
-        model.friction_object,
-        &options.checks,
-    )
-    .ok()?;
-    let worth = match costs.objective() {
-        ClusterObjective::Time => {
-            let time = problem.time_model();
-            let gripper = scene.gripper();
-            let saved =
-                options.carried * (time.nominal_trip_seconds(gripper) + time.look_seconds());
-            saved - place_seconds(time, scene, scene.centroid(rider), mean)
+    RowToRide::new(scene, members, problem).worth(scene, rider, costs, problem, options)
+}
+
+/// A candidate row as every rider offered to it is judged against: its members, mean centroid,
+/// predicted row and masses, computed once.
+struct RowToRide<'a> {
+    members: &'a [usize],
+    mean: Point2<f64>,
+    row: Option<Row>,
+    masses: Vec<f64>,
+}
+
+impl<'a> RowToRide<'a> {
+    fn new(scene: &Scene, members: &'a [usize], problem: &Problem) -> Self {
+        let model = problem.grasp_model();
+        Self {
+            members,
+            mean: Point2::from(
+                members
+                    .iter()
+                    .map(|&m| scene.centroid(m).coords)
+                    .sum::<Vector2<f64>>()
+                    / members.len().max(1) as f64,
+            ),
+            row: predicted_row(scene, members),
+            masses: members
+                .iter()
+                .map(|&m| model.mass_of(&scene.objects()[m]))
+                .collect(),
         }
-        ClusterObjective::FewestClusters => 1.0 - costs.epsilon() * distance,
-    };
-    (worth > 0.0).then_some((worth, distance))
+    }
+
+    /// [`ride_worth`] of `rider` on this row.
+    fn worth(
+        &self,
+        scene: &Scene,
+        rider: usize,
+        costs: &CostModel<'_>,
+        problem: &Problem,
+        options: &RideOptions,
+    ) -> Option<(f64, f64)> {
+        if self.members.contains(&rider) {
+            return None;
+        }
+        let distance = nalgebra::distance(&scene.centroid(rider), &self.mean);
+        if distance > options.reach {
+            return None;
+        }
+        let row = self.row.as_ref()?;
+        let model = problem.grasp_model();
+        let object = &scene.objects()[rider];
+        let mass = model.mass_of(object);
+        if !plates_carry(model.friction_jaw, model.grip_force, &self.masses, &[mass]) {
+            return None;
+        }
+        place_rider(
+            row,
+            &object.polygon,
+            object.height,
+            model.friction_object,
+            &options.checks,
+        )
+        .ok()?;
+        let worth = match costs.objective() {
+            ClusterObjective::Time => {
+                let time = problem.time_model();
+                let gripper = scene.gripper();
+                let saved =
+                    options.carried * (time.nominal_trip_seconds(gripper) + time.look_seconds());
+                saved - place_seconds(time, scene, scene.centroid(rider), self.mean)
+            }
+            ClusterObjective::FewestClusters => 1.0 - costs.epsilon() * distance,
+        };
+        (worth > 0.0).then_some((worth, distance))
+    }
 }
 
 /// The seconds a place action adds to a trip without pushes whose grasp is at `row`: the rider
