@@ -16,7 +16,8 @@
 //!   reach this point" in `O(log N + k)` instead of a scan of every object.
 //! - [`intersection`], [`clip`]: convex polygons clipped by half-planes and by each other
 //!   (`clip.rs`), and [`intersection_over_union`].
-//! - [`simplify`]: a detailed outline reduced to few vertices, moving it by at most a stated tolerance.
+//! - [`simplify`]: a detailed outline reduced to few vertices, moving it by at most a stated tolerance;
+//!   [`hull_polygon`]: the hull of a point set so reduced, for points that lie on a line up to rounding.
 
 mod clip;
 mod discs;
@@ -47,7 +48,7 @@ pub use queries::{distance, overlap, point_distance};
 pub(crate) use sat::Extremes;
 pub use sat::{ContactPatch, cast_distance, contact_patch, max_separation, penetration_depth};
 pub use separation::{SeparatingLine, are_separable, convex_hull, separating_line};
-pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, simplify};
+pub use simplify::{SIMPLIFY_ABOVE, SIMPLIFY_TOLERANCE, hull_polygon, simplify};
 
 /// Whether a query between outlines of `n` and `m` vertices should prune (`sat.rs`, `manifold.rs`,
 /// the MILP's row test) rather than scan plainly. Both give the same answers; the bounds pay for

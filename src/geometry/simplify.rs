@@ -37,10 +37,46 @@ fn distance_to_chord(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> f64 {
 /// nothing can be dropped.
 pub fn simplify(polygon: &ConvexPolygon, tolerance: f64) -> ConvexPolygon {
     let v = polygon.vertices();
-    let n = v.len();
-    if n <= 3 || tolerance.is_nan() || tolerance <= 0.0 {
+    if v.len() <= 3 || tolerance.is_nan() || tolerance <= 0.0 {
         return polygon.clone();
     }
+    let kept = simplified_loop(v, tolerance);
+    if kept.len() < 3 || kept.len() == v.len() {
+        return polygon.clone();
+    }
+    // A subset of strictly convex vertices is strictly convex; fall back to the original if rounding
+    // says otherwise.
+    ConvexPolygon::new(kept).unwrap_or_else(|_| polygon.clone())
+}
+
+/// The convex polygon of the hull of `points`, simplified as [`simplify`] does: hull vertices
+/// within `tolerance` metres of the chord between kept neighbours are dropped. Points that lie on
+/// a line up to rounding, such as the corners of a prism lying on a side face seen from above,
+/// would otherwise leave turns too straight for a [`ConvexPolygon`]. `None` when fewer than
+/// three vertices remain (the points lie within `tolerance` of a line).
+pub fn hull_polygon(points: &[Point2<f64>], tolerance: f64) -> Option<ConvexPolygon> {
+    let mut hull: Vec<Point2<f64>> = Vec::new();
+    for p in super::convex_hull(points) {
+        if hull.last().is_none_or(|q| (p - q).norm() > 1e-9) {
+            hull.push(p);
+        }
+    }
+    while hull.len() > 1 && (hull[0] - hull[hull.len() - 1]).norm() <= 1e-9 {
+        hull.pop();
+    }
+    if hull.len() < 3 {
+        return None;
+    }
+    let kept = simplified_loop(&hull, tolerance.max(0.0));
+    if kept.len() < 3 {
+        return None;
+    }
+    ConvexPolygon::new(kept).ok()
+}
+
+/// The walk of the module docs over a convex loop of distinct vertices: the vertices kept.
+fn simplified_loop(v: &[Point2<f64>], tolerance: f64) -> Vec<Point2<f64>> {
+    let n = v.len();
     // Start at the vertex with the sharpest turn: it is kept by any good simplification.
     let start = (0..n)
         .max_by(|&i, &j| {
@@ -73,12 +109,7 @@ pub fn simplify(polygon: &ConvexPolygon, tolerance: f64) -> ConvexPolygon {
         }
         from = to;
     }
-    if kept.len() < 3 || kept.len() == n {
-        return polygon.clone();
-    }
-    // A subset of strictly convex vertices is strictly convex; fall back to the original if rounding
-    // says otherwise.
-    ConvexPolygon::new(kept).unwrap_or_else(|_| polygon.clone())
+    kept
 }
 
 #[cfg(test)]
@@ -118,5 +149,36 @@ mod tests {
         let square =
             ConvexPolygon::rectangle(&Point2::origin(), &nalgebra::Vector2::x(), 0.01, 0.015);
         assert_eq!(simplify(&square, SIMPLIFY_TOLERANCE), square);
+    }
+
+    #[test]
+    fn points_on_a_line_up_to_rounding_leave_a_clean_hull() {
+        // A 40 mm × 30 mm rectangle whose long sides carry points 1e-13 m off the line, some
+        // outside: a side face's corners seen from above.
+        let mut points = vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.04, 0.0),
+            Point2::new(0.04, 0.03),
+            Point2::new(0.0, 0.03),
+        ];
+        for k in 1..8 {
+            let x = 0.005 * k as f64;
+            let off = if k % 2 == 0 { 1e-13 } else { -1e-13 };
+            points.push(Point2::new(x, off));
+            points.push(Point2::new(x, 0.03 - off));
+        }
+        assert!(ConvexPolygon::new(crate::geometry::convex_hull(&points)).is_err());
+        let hull = hull_polygon(&points, SIMPLIFY_TOLERANCE).unwrap();
+        assert_eq!(hull.len(), 4);
+        assert!((hull.area() - 0.04 * 0.03).abs() < 1e-12);
+        // Every point within tolerance of the hull polygon.
+        for p in &points {
+            assert!(crate::geometry::point_distance(&hull, p) <= SIMPLIFY_TOLERANCE);
+        }
+        // Points within tolerance of one line make no polygon.
+        let line: Vec<Point2<f64>> = (0..10)
+            .map(|k| Point2::new(0.004 * k as f64, 1e-5 * (k % 3) as f64))
+            .collect();
+        assert!(hull_polygon(&line, SIMPLIFY_TOLERANCE).is_none());
     }
 }

@@ -3,7 +3,7 @@
 
 use rapier3d_f64::math::{Rotation, Vector};
 
-use crate::geometry::ConvexPolygon;
+use crate::geometry::{ConvexPolygon, SIMPLIFY_TOLERANCE, hull_polygon};
 use crate::perception::Solid;
 use crate::scene::{ObjectId, Pose as PlanarPose};
 
@@ -57,7 +57,7 @@ impl Prism {
             .filter(|c| c.z < low + 1e-3)
             .map(|c| nalgebra::Point2::new(c.x, c.y))
             .collect();
-        let resting = ConvexPolygon::new(crate::geometry::convex_hull(&on_table)).ok()?;
+        let resting = hull_polygon(&on_table, SIMPLIFY_TOLERANCE)?;
         if resting.area() < 1e-6 {
             return None;
         }
@@ -65,7 +65,9 @@ impl Prism {
             .iter()
             .map(|c| nalgebra::Point2::new(c.x, c.y))
             .collect();
-        let footprint = ConvexPolygon::new(crate::geometry::convex_hull(&all)).ok()?;
+        // Lying on a side face, each end face stands on edge and its corners seen from above lie on a
+        // line up to rounding: the hull drops those within 0.1 mm of its edges.
+        let footprint = hull_polygon(&all, SIMPLIFY_TOLERANCE)?;
         let centre = footprint.centroid();
         let local = footprint.translated(&-centre.coords);
         Some((local, PlanarPose::new(centre.x, centre.y, 0.0), high - low))
@@ -99,5 +101,61 @@ impl Prism {
                 ]
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point2;
+
+    /// A regular octagon of circumradius 20 mm, an edge facing −y, 30 mm tall, laid on that edge's
+    /// side face: turned a quarter turn about x (give or take `error`), then by `yaw` about z.
+    fn octagon_on_its_side(error: f64, yaw: f64) -> Prism {
+        let r = 0.02;
+        let vertices = (0..8)
+            .map(|k| {
+                let a = std::f64::consts::PI / 8.0 + std::f64::consts::FRAC_PI_4 * k as f64;
+                Point2::new(r * a.cos(), r * a.sin())
+            })
+            .collect();
+        Prism {
+            id: ObjectId(1),
+            name: None,
+            polygon: ConvexPolygon::new(vertices).unwrap(),
+            height: 0.03,
+            mass: 0.05,
+            translation: Vector::new(0.3, 0.2, 0.0),
+            rotation: Rotation::from_rotation_z(yaw)
+                * Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2 + error),
+        }
+    }
+
+    #[test]
+    fn a_prism_lying_on_a_side_face_is_seen_as_a_rectangle() {
+        let r: f64 = 0.02;
+        let apothem = r * (std::f64::consts::PI / 8.0).cos();
+        for error in [0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-7, -1e-7, 1e-5] {
+            for yaw in [0.0, 0.3, 1.0, 2.5, -2.0] {
+                let prism = octagon_on_its_side(error, yaw);
+                let (footprint, _, height) = prism
+                    .lying_flat()
+                    .unwrap_or_else(|| panic!("not seen lying flat, error {error}, yaw {yaw}"));
+                // Seen from above: the octagon's width across flats (2 apothems) by the 30 mm it
+                // was tall; it now stands as tall as it was wide.
+                assert_eq!(
+                    footprint.len(),
+                    4,
+                    "error {error}, yaw {yaw}: {footprint:?}"
+                );
+                let area = 2.0 * apothem * 0.03;
+                assert!(
+                    (footprint.area() - area).abs() < 1e-7,
+                    "{}",
+                    footprint.area()
+                );
+                assert!((height - 2.0 * apothem).abs() < 1e-6, "{height}");
+            }
+        }
     }
 }
