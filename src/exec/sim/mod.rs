@@ -18,8 +18,11 @@
 //!   carried to the bin. Anything dropped stays where physics leaves it.
 //! - **Place** (riders, `formulations/stacking.md`): the rider picked with its single-object grasp,
 //!   lifted clear, carried and turned over the row, put down on its top, let go.
-//! - **Perception**: an observation is the true planar poses plus Gaussian noise (seeded). Objects
-//!   tilted past `topple_angle` or whose outline has left the workspace cannot be planned for; they are
+//! - **Perception**: an observation is the true planar poses plus Gaussian noise (seeded). An object
+//!   tilted past `topple_angle` that lies flat on a face (three or more corners on the table) is seen
+//!   as a new, lower prism: the hull of its corners from above, less those within 0.1 mm of its edges
+//!   ([`crate::geometry::hull_polygon`]; a prism on a side face has end faces standing on edge). One
+//!   leaning on something, or whose outline has left the workspace, cannot be planned for; they are
 //!   reported by [`Executor::lost`] and end the run when nothing else is left. Noise that would make two
 //!   observed outlines overlap is undone for one of them (a real segmentation never reports
 //!   interpenetrating objects).
