@@ -58,15 +58,7 @@ pub fn intersection(first: &ConvexPolygon, second: &ConvexPolygon) -> Vec<Point2
 /// one and turns straighter than 10⁻⁷ dropped first (clipping leaves such near-copies where a vertex
 /// lies on a clipping line); `None` when fewer than three points remain.
 pub fn tidy_polygon(points: &[Point2<f64>]) -> Option<ConvexPolygon> {
-    let mut kept: Vec<Point2<f64>> = Vec::new();
-    for p in super::convex_hull(points) {
-        if kept.last().is_none_or(|q| (p - q).norm() > 1e-9) {
-            kept.push(p);
-        }
-    }
-    while kept.len() > 1 && (kept[0] - kept[kept.len() - 1]).norm() <= 1e-9 {
-        kept.pop();
-    }
+    let mut kept = distinct_hull(points);
     let mut changed = true;
     while changed && kept.len() >= 3 {
         changed = false;
@@ -83,6 +75,21 @@ pub fn tidy_polygon(points: &[Point2<f64>]) -> Option<ConvexPolygon> {
         }
     }
     ConvexPolygon::new(kept).ok()
+}
+
+/// The hull of `points` (counter-clockwise) with points nearer than a nanometre to the last kept
+/// one dropped, around the loop's end too.
+pub(super) fn distinct_hull(points: &[Point2<f64>]) -> Vec<Point2<f64>> {
+    let mut kept: Vec<Point2<f64>> = Vec::new();
+    for p in super::convex_hull(points) {
+        if kept.last().is_none_or(|q| (p - q).norm() > 1e-9) {
+            kept.push(p);
+        }
+    }
+    while kept.len() > 1 && (kept[0] - kept[kept.len() - 1]).norm() <= 1e-9 {
+        kept.pop();
+    }
+    kept
 }
 
 /// The area of a vertex loop (shoelace; positive counter-clockwise).

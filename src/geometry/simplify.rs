@@ -55,15 +55,7 @@ pub fn simplify(polygon: &ConvexPolygon, tolerance: f64) -> ConvexPolygon {
 /// would otherwise leave turns too straight for a [`ConvexPolygon`]. `None` when fewer than
 /// three vertices remain (the points lie within `tolerance` of a line).
 pub fn hull_polygon(points: &[Point2<f64>], tolerance: f64) -> Option<ConvexPolygon> {
-    let mut hull: Vec<Point2<f64>> = Vec::new();
-    for p in super::convex_hull(points) {
-        if hull.last().is_none_or(|q| (p - q).norm() > 1e-9) {
-            hull.push(p);
-        }
-    }
-    while hull.len() > 1 && (hull[0] - hull[hull.len() - 1]).norm() <= 1e-9 {
-        hull.pop();
-    }
+    let hull = super::clip::distinct_hull(points);
     if hull.len() < 3 {
         return None;
     }
