@@ -404,6 +404,106 @@ fn the_trip_that_lost_an_object_names_it() {
     assert!(replay.contains(&format!("lost {gone} (outside the workspace)")));
 }
 
+/// After its first grasp, moves one object the grasp left to lie 5 mm past the workspace's right
+/// edge (as a grasp that nudged it there would): the object is reported lost outside the
+/// workspace and seen there ([`pushmog::exec::Executor::past_edge`]); a grasp of it carries it.
+struct PushedPastEdge {
+    out: Option<pushmog::scene::Object>,
+    moved: bool,
+}
+
+impl GraspHook for PushedPastEdge {
+    fn grasp(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        use pushmog::exec::Executor;
+        if let Some(out) = &self.out
+            && grasp.objects == [out.id]
+        {
+            self.out = None;
+            return Ok(pushmog::exec::GraspResult::carried(grasp.objects.clone()));
+        }
+        let result = table.grasp(grasp)?;
+        if !self.moved {
+            self.moved = true;
+            let left = table.observe()?;
+            let mut object = left.objects()[0].clone();
+            let right = object
+                .world_polygon()
+                .vertices()
+                .iter()
+                .map(|v| v.x)
+                .fold(f64::MIN, f64::max);
+            object.pose.x += left.workspace().max[0] + 0.005 - right;
+            table.reset(&left.with_objects(left.objects()[1..].to_vec())?)?;
+            self.out = Some(object);
+        }
+        Ok(result)
+    }
+    fn lost(&self, _table: &pushmog::exec::Ideal) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
+        self.out
+            .iter()
+            .map(|o| (o.id, "outside the workspace"))
+            .collect()
+    }
+    fn past_edge(&self) -> Vec<pushmog::scene::Object> {
+        self.out.iter().cloned().collect()
+    }
+}
+
+/// An object left 5 mm past the workspace's edge ends the run with it left, unless the policy may
+/// reach that far (`run.reach_past_edge`): then, once the workspace is clear, one trip takes it by
+/// itself, planned on the workspace grown by the reach, and the whole run passes the verifier and
+/// reads back from its file.
+#[test]
+fn an_object_just_past_the_edge_is_taken_once_the_workspace_is_clear() {
+    use pushmog::plan::StopReason;
+    let table = scene(2);
+    let run = |reach: f64| {
+        let mut settings = PolicySettings::default();
+        settings.run.reach_past_edge = reach;
+        let policy = Policy::new(PolicyKind::PushMog, settings).unwrap();
+        let mut executor = Rigged {
+            table: policy.ideal(),
+            hook: PushedPastEdge {
+                out: None,
+                moved: false,
+            },
+        };
+        policy.run(&table, &mut executor, 3).unwrap()
+    };
+    let stopped = run(0.0);
+    assert!(
+        matches!(
+            &stopped.status,
+            RunStatus::Stopped {
+                reason: StopReason::NothingPlannable { .. },
+                ..
+            }
+        ),
+        "{:?}",
+        stopped.status
+    );
+    assert_eq!(stopped.trips_past_edge(), 0);
+    let reached = run(0.02);
+    assert_eq!(reached.status, RunStatus::Cleared);
+    assert_eq!(reached.trips_past_edge(), 1);
+    assert_eq!(reached.trips.len(), stopped.trips.len() + 1);
+    // The trips before are the same: nothing changes until the workspace is clear.
+    assert_eq!(reached.trips[..stopped.trips.len()], stopped.trips[..]);
+    let last = reached.trips.last().unwrap();
+    assert!(last.plan.pushes.is_empty() && last.plan.grasp.objects.len() == 1);
+    assert_eq!(last.scene.workspace.max[0], table.workspace().max[0] + 0.02);
+    assert!(verify(&reached).is_empty(), "{:?}", verify(&reached));
+    let text = serde_json::to_string(&reached).unwrap();
+    let read: Plan = serde_json::from_str(&text).unwrap();
+    assert_eq!(read, reached);
+    // Too far for a reach of 4 mm: the run stops as without it.
+    assert_eq!(run(0.004).status, stopped.status);
+}
+
 /// Grasps of `object` come down on `blocker` (as a grasp does when the table seen is a little
 /// off) for as long as `blocker` is on the table.
 struct InTheWay {

@@ -110,6 +110,10 @@ pub trait GraspHook {
         use pushmog::exec::Executor;
         table.lost()
     }
+    /// Objects seen past the workspace's edge; none by default.
+    fn past_edge(&self) -> Vec<Object> {
+        Vec::new()
+    }
 }
 
 impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
@@ -142,5 +146,8 @@ impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
     }
     fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
         self.hook.lost(&self.table)
+    }
+    fn past_edge(&self) -> Vec<Object> {
+        self.hook.past_edge()
     }
 }

@@ -18,7 +18,7 @@ use crate::error::Result;
 use crate::grasp::Grasp;
 use crate::plan::Rider;
 use crate::push::Push;
-use crate::scene::{ObjectId, Scene};
+use crate::scene::{Object, ObjectId, Scene};
 
 pub use ideal::Ideal;
 pub use kind::ExecutorKind;
@@ -108,6 +108,15 @@ pub trait Executor {
     /// Objects still on the table that the last observation left out because nothing can be planned
     /// for them, with the reason (toppled, outside the workspace). Empty by default.
     fn lost(&self) -> Vec<(ObjectId, &'static str)> {
+        Vec::new()
+    }
+
+    /// Of the objects the last observation reported lost as outside the workspace, those the camera
+    /// still sees lying on the table past its edge, at their poses as seen (with the camera's
+    /// error), each outline wholly outside or straddling the edge. The closed loop may take them
+    /// one at a time by themselves once nothing else is left (`run.reach_past_edge`). Empty by
+    /// default: an executor that does not look past the edge reports nothing there.
+    fn past_edge(&self) -> Vec<Object> {
         Vec::new()
     }
 }

@@ -106,6 +106,7 @@ pub fn run_one(
         push_statuses: plan.push_statuses(),
         riders_placed: plan.riders_placed(),
         riders_lost: plan.riders_lost(),
+        trips_past_edge: plan.trips_past_edge(),
         cleared,
         stop_reason,
         remaining,

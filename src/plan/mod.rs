@@ -405,4 +405,16 @@ impl Plan {
     pub fn landings(&self) -> usize {
         self.trips.iter().filter(|t| t.fault.is_some()).count()
     }
+
+    /// Trips that took an object from past the workspace's edge (`run.reach_past_edge`): those
+    /// planned on a table whose workspace is not the first trip's.
+    pub fn trips_past_edge(&self) -> usize {
+        let Some(first) = self.trips.first() else {
+            return 0;
+        };
+        self.trips
+            .iter()
+            .filter(|t| t.scene.workspace != first.scene.workspace)
+            .count()
+    }
 }

@@ -241,6 +241,7 @@ mod context;
 mod correct;
 mod fuse;
 mod no_trip;
+mod past_edge;
 mod perched;
 mod price;
 mod riders;

@@ -110,6 +110,31 @@ impl<'a> Run<'a> {
             trip.lost.extend(newly);
         }
         self.context.note_lost(&lost);
+        if observed.is_empty() && !lost.is_empty() && self.may_go_on() {
+            let seen = executor.past_edge();
+            let gripper = observed.gripper();
+            if let Some((table, trip)) = self.policy.past_edge_trip(
+                observed.workspace(),
+                gripper,
+                &seen,
+                &self.context.failed,
+            )? {
+                let record = Trip {
+                    scene: SharedScene::sharing(
+                        table.to_spec(),
+                        self.trips.last().map(|t| &t.scene),
+                    ),
+                    plan: trip,
+                    looks: Vec::new(),
+                    carried: Vec::new(),
+                    fault: None,
+                    lost: Vec::new(),
+                };
+                self.refuse_unless_verified(&record)?;
+                self.grasp_and_record(record, &table, 0, executor)?;
+                return Ok(None);
+            }
+        }
         if let Some(reason) = self.stop_reason(&observed, &lost) {
             let mut remaining: Vec<ObjectId> = observed.objects().iter().map(|o| o.id).collect();
             remaining.extend(lost.iter().map(|(id, _)| *id));
@@ -205,8 +230,29 @@ impl<'a> Run<'a> {
             current = next;
             self.refuse_unless_verified(&record)?;
         }
+        self.grasp_and_record(record, &observed, noted, executor)?;
+        Ok(None)
+    }
+
+    /// Whether the run may make another attempt: fewer fruitless ones in a row than allowed, and
+    /// fewer trips than the limit.
+    fn may_go_on(&self) -> bool {
+        self.in_a_row < self.policy.settings().run.max_failed_attempts
+            && self.trips.len() < self.max_trips
+    }
+
+    /// Puts down the riders of `record` and makes its grasp (unless a landing stopped it), then
+    /// records the trip: the riders put down on `observed`, the pushes from `noted` on for the
+    /// looks' fusion, and a grasp that carried nothing.
+    fn grasp_and_record(
+        &mut self,
+        mut record: Trip,
+        observed: &Scene,
+        noted: usize,
+        executor: &mut dyn Executor,
+    ) -> Result<()> {
         place_and_grasp(&mut record, executor)?;
-        self.context.note_riders(&observed, &record.plan);
+        self.context.note_riders(observed, &record.plan);
         self.note_pushes(&record.plan.pushes[noted..]);
         if let Some(fusion) = self.fusion.as_mut() {
             fusion.trip_grasped(&record.plan);
@@ -223,7 +269,7 @@ impl<'a> Run<'a> {
             self.in_a_row = 0;
         }
         self.trips.push(record);
-        Ok(None)
+        Ok(())
     }
 
     /// `observed` with the looks fused (`run.fuse_looks`), or as it is.

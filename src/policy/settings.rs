@@ -101,6 +101,18 @@ pub struct LoopSettings {
     /// objects that stand still. Default false (written only when set).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub fuse_looks: bool,
+    /// How far past the workspace's edge the arm may take an object by itself, metres, once
+    /// nothing is left in the workspace but objects that lie past its edge (`policy/past_edge.rs`;
+    /// `formulations/grasping.md`, "Objects past the workspace's edge"). The cell must allow it:
+    /// the table goes on that far, the camera sees that far and the arm reaches it. Only an
+    /// executor that reports such objects ([`crate::exec::Executor::past_edge`]; the simulator
+    /// without its depth camera) is taken up on it. Default 0, off (written only when set).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub reach_past_edge: f64,
+}
+
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
 }
 
 impl Default for LoopSettings {
@@ -111,6 +123,7 @@ impl Default for LoopSettings {
             observe_after_pushes: true,
             max_corrections: 2,
             fuse_looks: false,
+            reach_past_edge: 0.0,
         }
     }
 }
@@ -204,6 +217,13 @@ impl PolicySettings {
             self.run.max_trips_per_object,
             (0.01, 100.0),
             "trips per object; every object needs at most one trip when grasps hold",
+        )?;
+        crate::error::in_range(
+            "run",
+            "reach_past_edge",
+            self.run.reach_past_edge,
+            (0.0, 0.2),
+            "metres past the workspace's edge; 0 turns it off",
         )?;
         Ok(())
     }

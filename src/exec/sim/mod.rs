@@ -97,6 +97,11 @@ pub struct Sim {
     workspace: Option<Workspace>,
     gripper: Gripper,
     lost: Vec<(ObjectId, &'static str)>,
+    /// Objects of `lost` outside the workspace, as the last look saw them past its edge.
+    past_edge: Vec<crate::scene::Object>,
+    /// The camera's error for the objects past the edge: a stream of its own, so that the main
+    /// stream, and every run, is the same whether or not anything lies there.
+    past_edge_rng: SeededRng,
     /// Objects put down on a row as riders and not carried since.
     placed: Vec<ObjectId>,
 }
@@ -122,6 +127,8 @@ impl Sim {
             workspace: None,
             gripper: Gripper::default(),
             lost: Vec::new(),
+            past_edge: Vec::new(),
+            past_edge_rng: SeededRng::new(seed ^ PAST_EDGE_STREAM),
             placed: Vec::new(),
         })
     }
@@ -325,9 +332,11 @@ impl Executor for Sim {
 
     fn reset(&mut self, scene: &Scene) -> Result<()> {
         self.rng = SeededRng::new(self.seed);
+        self.past_edge_rng = SeededRng::new(self.seed ^ PAST_EDGE_STREAM);
         self.workspace = Some(scene.workspace().clone());
         self.gripper = scene.gripper().clone();
         self.lost.clear();
+        self.past_edge.clear();
         self.placed.clear();
         self.prisms = scene
             .objects()
@@ -449,6 +458,7 @@ impl Executor for Sim {
 
     /// As [`Sim::observation`] (`observe.rs`).
     fn observe(&mut self) -> Result<Scene> {
+        self.past_edge.clear();
         match self.settings.camera.clone() {
             Some(camera) => self.camera_observation(&camera),
             None => self.observation(),
@@ -458,4 +468,14 @@ impl Executor for Sim {
     fn lost(&self) -> Vec<(ObjectId, &'static str)> {
         self.lost.clone()
     }
+
+    /// Without the depth camera (`SimSettings::camera`), every object lost outside the workspace
+    /// that stands upright or lies flat, seen with the same error as those inside; with it, none
+    /// (its images are not read past the workspace's edge).
+    fn past_edge(&self) -> Vec<crate::scene::Object> {
+        self.past_edge.clone()
+    }
 }
+
+/// Mixed into the seed of the stream that draws the camera's error past the workspace's edge.
+const PAST_EDGE_STREAM: u64 = 0x0070_6173_7445_6467;

@@ -39,10 +39,6 @@ impl Sim {
                 .vertices()
                 .iter()
                 .any(|v| workspace.outside_by(v) > crate::scene::OUTSIDE_TOLERANCE);
-            if outside {
-                self.lost.push((prism.id, "outside the workspace"));
-                continue;
-            }
             let object = Object {
                 id: prism.id,
                 name: prism.name.clone(),
@@ -51,6 +47,20 @@ impl Sim {
                 height,
                 mass: Some(prism.mass),
             };
+            if outside {
+                self.lost.push((prism.id, "outside the workspace"));
+                let rng = &mut self.past_edge_rng;
+                let seen = Pose::new(
+                    pose.x + s.perception_position * rng.normal(),
+                    pose.y + s.perception_position * rng.normal(),
+                    pose.yaw + s.perception_yaw * rng.normal(),
+                );
+                self.past_edge.push(Object {
+                    pose: seen,
+                    ..object
+                });
+                continue;
+            }
             truth.push(object.clone());
             let noisy = Pose::new(
                 pose.x + s.perception_position * self.rng.normal(),

@@ -137,6 +137,10 @@ pub struct LogRow {
     /// lost.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub riders_lost: usize,
+    /// Trips that took an object from past the workspace's edge (`Plan::trips_past_edge`);
+    /// absent when none did.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub trips_past_edge: usize,
     /// Whether the table was cleared.
     pub cleared: bool,
     /// Objects left, and why, when not cleared.
