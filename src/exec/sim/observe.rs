@@ -1,6 +1,7 @@
 //! What the simulator's camera reports: each prism's pose seen from above with perception noise,
 //! or why it cannot be planned for (toppled, outside the workspace, lying on another object, a
-//! rider left on another object); noise that would make outlines overlap undone.
+//! rider left on another object); noise that would make outlines overlap undone. Objects outside
+//! the workspace are also kept as seen there (`Executor::past_edge`).
 
 use super::Sim;
 use crate::error::Result;
