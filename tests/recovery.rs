@@ -500,6 +500,11 @@ fn an_object_just_past_the_edge_is_taken_once_the_workspace_is_clear() {
     let text = serde_json::to_string(&reached).unwrap();
     let read: Plan = serde_json::from_str(&text).unwrap();
     assert_eq!(read, reached);
+    // The replay says so and outlines the workspace inside the grown table.
+    let replay =
+        pushmog::render::replay_html(&reached, &pushmog::render::RenderOptions::default()).unwrap();
+    assert!(replay.contains("taken from past the workspace's edge"));
+    assert!(replay.contains("workspace (dashed)"));
     // Too far for a reach of 4 mm: the run stops as without it.
     assert_eq!(run(0.004).status, stopped.status);
 }

@@ -192,12 +192,38 @@ fn stage_svg(
     options: &RenderOptions,
     title: &str,
 ) -> String {
+    stage_svg_within(trip, k, table, (pushes, jaws), None, options, title)
+}
+
+/// As [`stage_svg`], with `workspace`, when the trip was planned on a table grown past it (an
+/// object taken from past its edge, `run.reach_past_edge`), outlined dashed.
+fn stage_svg_within(
+    trip: &Trip,
+    k: usize,
+    table: &Scene,
+    (pushes, jaws): (std::ops::Range<usize>, bool),
+    workspace: Option<&crate::scene::Workspace>,
+    options: &RenderOptions,
+    title: &str,
+) -> String {
     let fills: Vec<Option<String>> = table
         .objects()
         .iter()
         .map(|o| trip.carried.contains(&o.id).then(|| light(trip_colour(k))))
         .collect();
     let mut figure = Figure::new(table, options);
+    if let Some(w) = workspace {
+        let mut style = Style::outline("#606060", 1.5);
+        style.dash = "6 4".to_string();
+        let corners = [
+            Point2::new(w.min[0], w.min[1]),
+            Point2::new(w.max[0], w.min[1]),
+            Point2::new(w.max[0], w.max[1]),
+            Point2::new(w.min[0], w.max[1]),
+        ];
+        figure.canvas().polygon(&corners, &style);
+        figure.legend_entry("#606060", "workspace (dashed), the table grown past it");
+    }
     figure.objects(&fills);
     draw_trip(figure.canvas(), trip, k, table, pushes, jaws);
     figure.legend_entry("#202020", "jaw plates");
@@ -212,7 +238,9 @@ fn stage_svg(
 /// As [`trip_svg`].
 pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
     let mut frames = Vec::with_capacity(plan.trips.len());
+    let workspace = plan.trips.first().map(|t| t.scene.workspace.clone());
     for (k, trip) in plan.trips.iter().enumerate() {
+        let past_edge = workspace.as_ref().filter(|w| **w != trip.scene.workspace);
         let carried: Vec<String> = trip.carried.iter().map(|id| id.to_string()).collect();
         let mut carried = format!(
             "carried {} ({})",
@@ -243,8 +271,14 @@ pub fn replay_html(plan: &Plan, options: &RenderOptions) -> Result<String> {
             } else {
                 format!("{} pushes, then a new look", pushes.len())
             };
-            let title = format!("trip {} of {}{look}: {next}", k + 1, plan.trips.len());
-            let svg = stage_svg(trip, k, table, pushes.clone(), last, options, &title);
+            let past = if past_edge.is_some() {
+                ", taken from past the workspace's edge"
+            } else {
+                ""
+            };
+            let title = format!("trip {} of {}{look}{past}: {next}", k + 1, plan.trips.len());
+            let stage = (pushes.clone(), last);
+            let svg = stage_svg_within(trip, k, table, stage, past_edge, options, &title);
             frames.push((title, svg));
         }
     }
