@@ -2,7 +2,9 @@
 //! [`Executor`]: observe, plan one trip, push, grasp, record, until the table is clear or a typed stop
 //! reason ends the run. It never loops forever: it stops when the table is clear, when nothing left
 //! can be planned for (toppled, outside), when every object left is wider than the jaw gap, after
-//! `max_failed_attempts` fruitless attempts in a row, or at the trip limit.
+//! `max_failed_attempts` fruitless attempts in a row, or at the trip limit. With
+//! `run.reach_past_edge`, a workspace left empty but for objects the executor sees just past its
+//! edge is not the end: those are taken one at a time first (`past_edge.rs`).
 //!
 //! An attempt that yields no grasp is recorded with its reason and costs no trip; a grasp that
 //! carries nothing is a trip (a failed grasp). [`Run::record`] gives the record so far at any moment,

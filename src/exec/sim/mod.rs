@@ -25,9 +25,9 @@
 //!   leaning on something, or whose outline has left the workspace, cannot be planned for; they are
 //!   reported by [`Executor::lost`] and end the run when nothing else is left. Those past the
 //!   workspace's edge are also reported where they lie ([`Executor::past_edge`], their noise drawn
-//!   from a stream of their own), for a policy allowed to reach there (`run.reach_past_edge`). Noise that would make two
-//!   observed outlines overlap is undone for one of them (a real segmentation never reports
-//!   interpenetrating objects).
+//!   from a stream of their own), for a policy allowed to reach there (`run.reach_past_edge`).
+//!   Noise that would make two observed outlines overlap is undone for one of them (a real
+//!   segmentation never reports interpenetrating objects).
 
 mod base;
 mod camera;
