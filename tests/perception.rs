@@ -371,6 +371,19 @@ fn a_crumb_is_too_small_and_an_object_off_the_workspace_is_outside_it() {
     assert!(s.contains(&BlobStatus::OutsideWorkspace), "{s:?}");
     assert_eq!(seen.objects.len(), 2);
     assert!(seen.scene().is_ok());
+    // The object outside is also given where it lies, for a loop that may reach there; the crumb
+    // is not.
+    let outside = |seen: &Perception| {
+        assert_eq!(seen.past_edge.len(), 1, "{:?}", seen.past_edge);
+        let (k, object) = &seen.past_edge[0];
+        assert!(matches!(
+            seen.blobs[*k].status,
+            BlobStatus::OutsideWorkspace | BlobStatus::StraddlesWorkspaceEdge
+        ));
+        let fit = intersection_over_union(truth.world_polygon(2), &object.world_polygon());
+        assert!(fit > 0.9, "IoU {fit}");
+    };
+    outside(&seen);
     // The same object across the edge blocks.
     let across = Workspace {
         min: [0.0, 0.0],
@@ -378,6 +391,7 @@ fn a_crumb_is_too_small_and_an_object_off_the_workspace_is_outside_it() {
     };
     let seen = look(&truth, &camera(), &across, None);
     assert!(statuses(&seen).contains(&BlobStatus::StraddlesWorkspaceEdge));
+    outside(&seen);
     let error = seen.scene().unwrap_err().to_string();
     assert!(error.contains("straddles_workspace_edge"), "{error}");
 }
@@ -399,6 +413,15 @@ fn an_object_cut_by_the_image_border_blocks() {
     );
     let seen = look(&truth, &camera, truth.workspace(), None);
     assert_eq!(statuses(&seen), vec![BlobStatus::TouchesImageBorder]);
+    // Seen against a workspace it lies outside, it is still only partly in view: not given as an
+    // object past the edge.
+    let narrow = Workspace {
+        min: [0.1, 0.0],
+        max: [0.5, 0.4],
+    };
+    let seen = look(&truth, &camera, &narrow, None);
+    assert_eq!(statuses(&seen), vec![BlobStatus::OutsideWorkspace]);
+    assert!(seen.past_edge.is_empty(), "{:?}", seen.past_edge);
 }
 
 #[test]

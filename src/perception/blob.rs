@@ -38,6 +38,9 @@ pub struct Judged {
     pub footprint: Option<ConvexPolygon>,
     /// The status before tracking and overlaps.
     pub status: BlobStatus,
+    /// Whether the blob is outside the workspace or over its edge and would be an object
+    /// otherwise: whole in view, in one piece, one plateau, of an object's size and convex.
+    pub past_edge: bool,
 }
 
 /// The largest count of `sorted` values within a window `width` wide, and that window's median.
@@ -312,12 +315,25 @@ pub fn judge(
         border,
     };
     let status = status(blob, &print, &measured, workspace, settings);
+    // Judged again on a workspace that holds the footprint, so that the workspace's tests drop out.
+    let past_edge = matches!(
+        status,
+        BlobStatus::OutsideWorkspace | BlobStatus::StraddlesWorkspaceEdge
+    ) && print.as_ref().is_some_and(|p| {
+        let (lo, hi) = p.bounding_box();
+        let holding = Workspace {
+            min: [lo.x - 1.0, lo.y - 1.0],
+            max: [hi.x + 1.0, hi.y + 1.0],
+        };
+        self::status(blob, &print, &measured, &holding, settings) == BlobStatus::Object
+    });
     Judged {
         pixel_box,
         top,
         solidity,
         footprint: print,
         status,
+        past_edge,
     }
 }
 

@@ -75,6 +75,7 @@ pub fn perceive(
             id: None,
         })
         .collect();
+    let past_edge = past_edge_objects(&blobs, &judged);
     let mut prints: Vec<Option<ConvexPolygon>> = judged.into_iter().map(|j| j.footprint).collect();
     let gone = assign_ids(&mut reports, &prints, &blobs, prior, settings);
     separate(&mut reports, &mut prints, settings, &mut adjustments);
@@ -95,9 +96,35 @@ pub fn perceive(
         table,
         gone,
         adjustments,
+        past_edge,
         workspace: workspace.clone(),
         gripper: gripper.clone(),
     })
+}
+
+/// The blobs judged objects but for the workspace's edge ([`Judged::past_edge`]), as objects
+/// where they lie (`Perception::past_edge`).
+fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<(usize, Object)> {
+    let mut objects = Vec::new();
+    for (k, (blob, judged)) in blobs.iter().zip(judged).enumerate() {
+        let (true, Some(print), Some(top)) = (judged.past_edge, &judged.footprint, judged.top)
+        else {
+            continue;
+        };
+        let centre = print.centroid();
+        objects.push((
+            k,
+            Object {
+                id: ObjectId(blob.label.unwrap_or(0)),
+                name: None,
+                polygon: print.translated(&-centre.coords),
+                pose: Pose::new(centre.x, centre.y, 0.0),
+                height: top,
+                mass: None,
+            },
+        ));
+    }
+    objects
 }
 
 /// The table fitted to the pixels inside the workspace, and every pixel's height above it.

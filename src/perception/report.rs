@@ -119,6 +119,12 @@ pub struct Perception {
     pub gone: Vec<ObjectId>,
     /// What was changed to make the objects a valid scene (overlaps cut apart, edges trimmed).
     pub adjustments: Vec<String>,
+    /// The blobs outside the workspace or over its edge that would be objects otherwise (whole
+    /// in view, one piece, one plateau, an object's size, convex), each as an object where it lies:
+    /// the index of its report in `blobs`, and its footprint about its centroid, yaw 0, with its
+    /// label as id (0 without labels). A closed loop may take such an object by itself
+    /// (`run.reach_past_edge`); they are not part of [`Perception::scene`].
+    pub past_edge: Vec<(usize, Object)>,
     /// The workspace the scene is for.
     pub workspace: Workspace,
     /// The gripper the scene is for.

@@ -105,8 +105,8 @@ pub struct LoopSettings {
     /// nothing is left in the workspace but objects that lie past its edge (`policy/past_edge.rs`;
     /// `formulations/grasping.md`, "Objects past the workspace's edge"). The cell must allow it:
     /// the table goes on that far, the camera sees that far and the arm reaches it. Only an
-    /// executor that reports such objects ([`crate::exec::Executor::past_edge`]; the simulator
-    /// without its depth camera) is taken up on it. Default 0, off (written only when set).
+    /// executor that reports such objects ([`crate::exec::Executor::past_edge`]; the simulator,
+    /// with or without its depth camera) is taken up on it. Default 0, off (written only when set).
     #[serde(skip_serializing_if = "is_zero")]
     pub reach_past_edge: f64,
 }

@@ -17,6 +17,9 @@
 //!   too small, stacked, not convex, over the workspace's edge and so on, and a prism no pixel shows.
 //!   A rider left standing on another object is reported as the pose model reports it: with one
 //!   label per object its blob is one plateau, which the camera cannot tell from a tall object.
+//!   A prism outside the workspace or over its edge that would be an object otherwise is also
+//!   reported where it was seen (`Executor::past_edge`, from `Perception::past_edge`), within the
+//!   `margin` of table the image shows.
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -268,7 +271,18 @@ impl Sim {
                     mass: Some(prism.mass),
                     ..object.clone()
                 }),
-                None => self.lost.push((prism.id, reason(&blob.status))),
+                None => {
+                    self.lost.push((prism.id, reason(&blob.status)));
+                    let k = seen.blobs.iter().position(|b| b.label == Some(label));
+                    if let Some((_, there)) = seen.past_edge.iter().find(|(j, _)| Some(*j) == k) {
+                        self.past_edge.push(Object {
+                            id: prism.id,
+                            name: prism.name.clone(),
+                            mass: Some(prism.mass),
+                            ..there.clone()
+                        });
+                    }
+                }
             }
         }
         Scene::from_parts(workspace, self.gripper.clone(), objects)

@@ -472,8 +472,9 @@ impl Executor for Sim {
     }
 
     /// Without the depth camera (`SimSettings::camera`), every object lost outside the workspace
-    /// that stands upright or lies flat, seen with the same error as those inside; with it, none
-    /// (its images are not read past the workspace's edge).
+    /// that stands upright or lies flat, seen with the same error as those inside; with it, the
+    /// prisms whose blobs perception found outside the workspace or over its edge and would have
+    /// taken for objects otherwise (`Perception::past_edge`), as perceived.
     fn past_edge(&self) -> Vec<crate::scene::Object> {
         self.past_edge.clone()
     }
