@@ -62,18 +62,17 @@ impl Policy {
         within.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.id.cmp(&b.1.id)));
         let table = grown(workspace, reach);
         // One object at a time, so that two seen overlapping (the camera's error) keep the first.
-        let mut held: Vec<Object> = Vec::new();
+        let mut scene: Option<Scene> = None;
         for (_, object) in &within {
-            let mut objects = held.clone();
+            let mut objects = scene.as_ref().map_or(Vec::new(), |s| s.objects().to_vec());
             objects.push((*object).clone());
-            if Scene::from_parts(table.clone(), gripper.clone(), objects).is_ok() {
-                held.push((*object).clone());
+            if let Ok(valid) = Scene::from_parts(table.clone(), gripper.clone(), objects) {
+                scene = Some(valid);
             }
         }
-        if held.is_empty() {
+        let Some(scene) = scene else {
             return Ok(None);
-        }
-        let scene = Scene::from_parts(table, gripper.clone(), held)?;
+        };
         for object in scene.objects() {
             let target = [object.id];
             let request = GraspRequest::new(&scene, &target).avoiding(avoid);

@@ -257,10 +257,11 @@ impl Sim {
                 self.lost.push((prism.id, RIDER_LEFT));
                 continue;
             }
-            let Some(blob) = seen.blobs.iter().find(|b| b.label == Some(label)) else {
+            let Some(k) = seen.blobs.iter().position(|b| b.label == Some(label)) else {
                 self.lost.push((prism.id, "not in view"));
                 continue;
             };
+            let blob = &seen.blobs[k];
             let object = blob
                 .id
                 .and_then(|id| seen.objects.iter().find(|o| o.id == id));
@@ -273,8 +274,7 @@ impl Sim {
                 }),
                 None => {
                     self.lost.push((prism.id, reason(&blob.status)));
-                    let k = seen.blobs.iter().position(|b| b.label == Some(label));
-                    if let Some((_, there)) = seen.past_edge.iter().find(|(j, _)| Some(*j) == k) {
+                    if let Some((_, there)) = seen.past_edge.iter().find(|(j, _)| *j == k) {
                         self.past_edge.push(Object {
                             id: prism.id,
                             name: prism.name.clone(),
