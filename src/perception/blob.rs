@@ -6,6 +6,7 @@ use nalgebra::Point2;
 use super::blobs::four_neighbours;
 use super::camera::Camera;
 use super::footprint::{footprint, footprint_by_edges, image_hull};
+use super::occlusion::{Band, Neighbours, end_lifts};
 use super::report::BlobStatus;
 use super::settings::PerceptionSettings;
 use super::table::TablePlane;
@@ -124,21 +125,14 @@ fn fitted_outline(
         .filter(|fitted| super::sides::agrees(fitted, corners))
 }
 
-/// For each edge of the counter-clockwise image loop `corners`, the height at which the blob's
-/// silhouette stands along it: the tenth percentile of the heights of the blob's pixels whose
-/// centres lie within `SILHOUETTE_BAND` pixels inside the edge and along it, kept within
-/// `[cut, top]`; the cut for an edge with no such pixel. Along a wall the camera sees, the outermost
-/// pixels stand just above the cut, so the edge is the cut's, as in the two-plane method. Along a
-/// top whose wall a neighbour hides they stand at the top, and so does the edge. Where a wall shows
-/// only narrowly (an edge seen almost end-on, or near the nadir), the edge stands in between, off by
-/// at most that narrow wall's width.
-fn silhouette_heights(
+/// For each edge of the counter-clockwise image loop `corners`, its [`Band`]: the heights of the
+/// blob's pixels whose centres lie within `SILHOUETTE_BAND` pixels inside the edge and along it.
+fn silhouette_bands(
     corners: &[Point2<f64>],
     pixels: &[usize],
     heights: &[f64],
     width: usize,
-    (cut, top): (f64, f64),
-) -> Vec<f64> {
+) -> Vec<Band> {
     // The pixels by row, so that each edge looks only at the rows it spans.
     let first = pixels.iter().map(|&i| i / width).min().unwrap_or(0);
     let last = pixels.iter().map(|&i| i / width).max().unwrap_or(0);
@@ -153,7 +147,7 @@ fn silhouette_heights(
             let edge = b - a;
             let length = edge.norm();
             if length < 1e-9 {
-                return cut;
+                return Vec::new();
             }
             let outward = nalgebra::Vector2::new(edge.y, -edge.x) / length;
             // Every pixel near the edge lies within the band's width of its rows.
@@ -165,7 +159,7 @@ fn silhouette_heights(
             let to = (high.floor().max(0.0) as usize)
                 .min(last)
                 .saturating_sub(first);
-            let mut band: Vec<f64> = rows
+            let mut band: Band = rows
                 .get(from..=to)
                 .unwrap_or(&[])
                 .iter()
@@ -176,14 +170,28 @@ fn silhouette_heights(
                     let along = edge.dot(&(p - a)) / (length * length);
                     let near =
                         (0.0..=SILHOUETTE_BAND).contains(&inside) && (0.0..=1.0).contains(&along);
-                    (near && heights[i].is_finite()).then_some(heights[i])
+                    (near && heights[i].is_finite()).then_some((along, heights[i]))
                 })
                 .collect();
-            if band.is_empty() {
-                return cut;
-            }
-            band.sort_by(f64::total_cmp);
-            band[band.len() / 10].clamp(cut, top)
+            band.sort_by(|x, y| x.1.total_cmp(&y.1));
+            band
+        })
+        .collect()
+}
+
+/// For each edge of the image loop whose silhouette bands are `bands` ([`silhouette_bands`]), the
+/// height at which the blob's silhouette stands along it: the tenth percentile of the band's
+/// heights, kept within `[cut, top]`; the cut for an edge with no such pixel. Along a wall the
+/// camera sees, the outermost pixels stand just above the cut, so the edge is the cut's, as in the
+/// two-plane method. Along a top whose wall a neighbour hides they stand at the top, and so does
+/// the edge. Where a wall shows only narrowly (an edge seen almost end-on, or near the nadir), the
+/// edge stands in between, off by at most that narrow wall's width.
+fn silhouette_heights(bands: &[Band], (cut, top): (f64, f64)) -> Vec<f64> {
+    bands
+        .iter()
+        .map(|band| {
+            band.get(band.len() / 10)
+                .map_or(cut, |&(_, h)| h.clamp(cut, top))
         })
         .collect()
 }
@@ -227,10 +235,40 @@ fn outside(polygon: &ConvexPolygon, workspace: &Workspace) -> (f64, bool) {
     (reach, apart)
 }
 
-/// Judges one blob against `heights` (per pixel above the fitted table, NaN for none).
-pub fn judge(
+/// A blob's top height (its given one, or the higher plateau of its heights when enough of its
+/// pixels have depth) and, for a stacked blob, the lower plateau's.
+pub fn top_of(
     blob: &Blob,
     heights: Option<&[f64]>,
+    settings: &PerceptionSettings,
+) -> (Option<f64>, Option<f64>) {
+    let known: Vec<f64> = heights.map_or(Vec::new(), |h| {
+        blob.pixels
+            .iter()
+            .map(|&i| h[i])
+            .filter(|h| h.is_finite())
+            .collect()
+    });
+    match blob.given_height {
+        Some(h) => (Some(h), None),
+        None if known.len() as f64 >= settings.min_depth_fraction * blob.pixels.len() as f64
+            && !known.is_empty() =>
+        {
+            let (top, second) = top_height(&known, settings);
+            (Some(top), second)
+        }
+        None => (None, None),
+    }
+}
+
+/// Judges one blob against `heights` (per pixel above the fitted table, NaN for none), with its
+/// top and lower plateau from [`top_of`], and the blobs around it where labels let them touch.
+#[allow(clippy::too_many_arguments)]
+pub fn judge(
+    blob: &Blob,
+    (top, stacked): (Option<f64>, Option<f64>),
+    heights: Option<&[f64]>,
+    neighbours: Option<&Neighbours>,
     camera: &Camera,
     table: &TablePlane,
     workspace: &Workspace,
@@ -241,23 +279,6 @@ pub fn judge(
         camera.intrinsics.height as usize,
     );
     let (pixel_box, border) = pixel_box(&blob.pixels, width, height);
-    let known: Vec<f64> = heights.map_or(Vec::new(), |h| {
-        blob.pixels
-            .iter()
-            .map(|&i| h[i])
-            .filter(|h| h.is_finite())
-            .collect()
-    });
-    let (top, stacked) = match blob.given_height {
-        Some(h) => (Some(h), None),
-        None if known.len() as f64 >= settings.min_depth_fraction * blob.pixels.len() as f64
-            && !known.is_empty() =>
-        {
-            let (top, second) = top_height(&known, settings);
-            (Some(top), second)
-        }
-        None => (None, None),
-    };
     // Blobs from depth are cut again at half their top: a flying pixel, mixed between the table
     // and the top, then lies above the cut as often outside the edge as below it inside.
     // `above`: the pixels above the cut before the median, where the cut was made again.
@@ -301,7 +322,17 @@ pub fn judge(
             // With depth, each edge of the hull is back-projected at the height its silhouette
             // stands at: the cut where a wall shows, the top where a neighbour hides it.
             Some(h) if blob.given_height.is_none() => {
-                let lifts = silhouette_heights(&hull.corners, &pixels, h, width, (cut, top));
+                let bands = silhouette_bands(&hull.corners, &pixels, h, width);
+                let lifts = silhouette_heights(&bands, (cut, top));
+                let lifts = end_lifts(
+                    &hull.corners,
+                    &lifts,
+                    &bands,
+                    (cut, top),
+                    h,
+                    width,
+                    neighbours,
+                );
                 footprint_by_edges(hull, camera, table, top, &lifts)
             }
             _ => footprint(hull, camera, table, top, cut),

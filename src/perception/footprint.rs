@@ -139,20 +139,29 @@ pub fn footprint(
     top: f64,
     cut: f64,
 ) -> Option<ConvexPolygon> {
-    footprint_by_edges(hull, camera, table, top, &vec![cut; hull.corners.len()])
+    footprint_by_edges(
+        hull,
+        camera,
+        table,
+        top,
+        &vec![Some([cut, cut]); hull.corners.len()],
+    )
 }
 
 /// As [`footprint`], each edge `k` of the image hull (from corner `k` to `k + 1`) back-projected
-/// onto the plane `lifts[k]` above the table instead of the cut plane: the height at which the
-/// silhouette along that edge stands. Where the blob's edge shows a wall, that is the cut; where a
-/// neighbour hides the wall, the top's edge is the silhouette, and its own height puts it back where
-/// it is (`formulations/perception.md`, "Why touching objects come out small").
+/// with its two ends on the planes `lifts[k]` above the table instead of the cut plane: the
+/// heights at which the silhouette stands at those ends. Where the blob's edge shows a wall, that is
+/// the cut; where a neighbour hides the wall, the top's edge or the neighbour's is the silhouette,
+/// and its own height puts it back where it is (`formulations/perception.md`, "Why touching objects
+/// come out small" and "Sides along a neighbour"). An edge without lifts bounds nothing. The
+/// footprint is also kept within the hull back-projected onto the top plane, and onto the highest
+/// lift where one stands above the top.
 pub fn footprint_by_edges(
     hull: &ImageHull,
     camera: &Camera,
     table: &TablePlane,
     top: f64,
-    lifts: &[f64],
+    lifts: &[Option<[f64; 2]>],
 ) -> Option<ConvexPolygon> {
     let corners = &hull.corners;
     let n = corners.len();
@@ -160,6 +169,20 @@ pub fn footprint_by_edges(
         return None;
     }
     let mut print = back_project(corners, camera, table, top)?;
+    let highest = lifts
+        .iter()
+        .flatten()
+        .flatten()
+        .copied()
+        .fold(top, f64::max);
+    if highest > top {
+        // A neighbour's top edge hides part of this top: the top plane's cast may lie inside the
+        // footprint there, so the bound is the hull of both casts.
+        let higher = back_project(corners, camera, table, highest)?;
+        let mut both = print.vertices().to_vec();
+        both.extend_from_slice(higher.vertices());
+        print = tidy_polygon(&both)?;
+    }
     let centre = camera.centre();
     let meet = |c: &Point2<f64>, lift: f64| {
         table
@@ -171,11 +194,11 @@ pub fn footprint_by_edges(
     // counter-clockwise on the table, right of it otherwise.
     let on_top: Option<Vec<Point2<f64>>> = corners.iter().map(|c| meet(c, top)).collect();
     let left = loop_area(&on_top?) > 0.0;
-    for k in 0..n {
-        let (a, b) = (
-            meet(&corners[k], lifts[k])?,
-            meet(&corners[(k + 1) % n], lifts[k])?,
-        );
+    for (k, lift) in lifts.iter().enumerate() {
+        let Some([from, to]) = *lift else {
+            continue;
+        };
+        let (a, b) = (meet(&corners[k], from)?, meet(&corners[(k + 1) % n], to)?);
         let along = b - a;
         if along.norm() < 1e-12 {
             continue;

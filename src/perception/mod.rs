@@ -36,6 +36,7 @@ mod identify;
 mod input;
 mod noise;
 mod npy;
+mod occlusion;
 mod overlay;
 mod perceive;
 mod render;

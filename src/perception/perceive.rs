@@ -6,10 +6,11 @@ use std::collections::BTreeMap;
 use nalgebra::{Point2, Point3, Vector2};
 
 use super::align::in_prior_frame;
-use super::blob::{Blob, Judged, above_cut, judge, position};
+use super::blob::{Blob, Judged, above_cut, judge, position, top_of};
 use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
+use super::occlusion::Neighbours;
 use super::report::{BlobReport, BlobStatus, Perception};
 use super::settings::PerceptionSettings;
 use super::table::{TablePlane, fit_table};
@@ -57,9 +58,35 @@ pub fn perceive(
         None => (TablePlane::calibrated(), None),
     };
     let blobs = find_blobs(frame, heights.as_deref(), camera, settings);
+    let measured: Vec<(Option<f64>, Option<f64>)> = blobs
+        .iter()
+        .map(|b| top_of(b, heights.as_deref(), settings))
+        .collect();
+    // With labels two blobs can touch, and one may hide the other's wall (`occlusion.rs`).
+    let owner = (frame.labels.is_some() && heights.is_some())
+        .then(|| owners(&blobs, frame.labels.map_or(0, <[u32]>::len)));
+    let tops: Vec<Option<f64>> = measured.iter().map(|m| m.0).collect();
     let judged: Vec<Judged> = blobs
         .iter()
-        .map(|b| judge(b, heights.as_deref(), camera, &table, workspace, settings))
+        .zip(&measured)
+        .enumerate()
+        .map(|(index, (b, &m))| {
+            let neighbours = owner.as_deref().map(|owner| Neighbours {
+                owner,
+                tops: &tops,
+                index,
+            });
+            judge(
+                b,
+                m,
+                heights.as_deref(),
+                neighbours.as_ref(),
+                camera,
+                &table,
+                workspace,
+                settings,
+            )
+        })
         .collect();
     let mut reports: Vec<BlobReport> = blobs
         .iter()
@@ -100,6 +127,18 @@ pub fn perceive(
         workspace: workspace.clone(),
         gripper: gripper.clone(),
     })
+}
+
+/// Per pixel of an image of `size` pixels, one more than the index of the blob that holds it; 0
+/// for none.
+fn owners(blobs: &[Blob], size: usize) -> Vec<u32> {
+    let mut owner = vec![0_u32; size];
+    for (k, blob) in blobs.iter().enumerate() {
+        for &i in &blob.pixels {
+            owner[i] = k as u32 + 1;
+        }
+    }
+    owner
 }
 
 /// The blobs judged objects but for the workspace's edge ([`Judged::past_edge`]), as objects
