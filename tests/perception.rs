@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use nalgebra::{Point2, Vector2};
 use pushmog::geometry::{ConvexPolygon, intersection_over_union};
 use pushmog::perception::{
-    BlobStatus, Camera, Depth, DepthNoise, Frame, Identify, Perception, PerceptionSettings,
-    add_noise, perceive, render_depth,
+    BlobStatus, Camera, Depth, DepthNoise, Frame, Identify, PastEdge, Perception,
+    PerceptionSettings, add_noise, perceive, render_depth,
 };
 use pushmog::random::SeededRng;
 use pushmog::scene::{
@@ -375,9 +375,9 @@ fn a_crumb_is_too_small_and_an_object_off_the_workspace_is_outside_it() {
     // is not.
     let outside = |seen: &Perception| {
         assert_eq!(seen.past_edge.len(), 1, "{:?}", seen.past_edge);
-        let (k, object) = &seen.past_edge[0];
+        let PastEdge { blob, object } = &seen.past_edge[0];
         assert!(matches!(
-            seen.blobs[*k].status,
+            seen.blobs[*blob].status,
             BlobStatus::OutsideWorkspace | BlobStatus::StraddlesWorkspaceEdge
         ));
         let fit = intersection_over_union(truth.world_polygon(2), &object.world_polygon());

@@ -78,12 +78,16 @@ class Camera:
 class Perception:
     """What one look found: a report per blob (dicts with ``status``, ``pixel_box``, ``position``,
     ``top_height``, ``solidity``, ``id``), the fitted table, the prior's ids that are gone and the
-    adjustments made. :meth:`scene` gives the objects as a scene."""
+    adjustments made. :meth:`scene` gives the objects as a scene. ``past_edge`` lists the blobs
+    outside the workspace or over its edge that would be objects otherwise, each a dict with
+    ``blob`` (the index of its report in ``blobs``) and ``object`` (its footprint where it lies, in
+    the scene file's form); they are not part of the scene."""
 
     blobs: list
     table: dict
     gone: list
     adjustments: list
+    past_edge: list = field(default_factory=list)
     _scene: Optional[Scene] = field(default=None, repr=False)
     _refusal: Optional[str] = field(default=None, repr=False)
 
@@ -165,7 +169,7 @@ def perceive(
     document = json.loads(report)
     return Perception(
         document["blobs"], document["table"], document["gone"], document["adjustments"],
-        None if scene is None else Scene(scene), refusal,
+        document.get("past_edge", []), None if scene is None else Scene(scene), refusal,
     )
 
 

@@ -87,3 +87,19 @@ def test_a_blocking_blob_is_listed_and_the_scene_refused(scene):
         look.scene()
     with pytest.raises(pushmog.SettingsError, match="shape"):
         pushmog.perceive(depth[:, 1:], CAMERA, workspace=scene)
+
+
+def test_objects_past_the_workspaces_edge_are_listed_where_they_lie(scene):
+    depth, _, _ = pushmog.render_depth(scene, CAMERA)
+    # The scene's left half as the workspace: the objects of the right half are past its edge.
+    look = pushmog.perceive(depth, CAMERA, workspace=((0.0, 0.0), (0.3, 0.45)))
+    assert look.past_edge
+    truths = np.array([_centroid(o.world_vertices()) for o in scene.objects])
+    for past in look.past_edge:
+        assert look.blobs[past["blob"]]["status"] in {"outside_workspace", "straddles_workspace_edge"}
+        # Its outline is about its centroid, yaw 0: the pose is where it lies, near a true object.
+        pose = past["object"]["pose"]
+        assert pose["x"] > 0.29 and pose["yaw"] == 0.0
+        assert float(np.min(np.linalg.norm(truths - [pose["x"], pose["y"]], axis=1))) < 0.002
+    # The whole table as the workspace: nothing past its edge.
+    assert pushmog.perceive(depth, CAMERA, workspace=scene).past_edge == []

@@ -54,6 +54,6 @@ pub use npy::{Npy, NpyData, read_npy, write_npy_f32, write_npy_u32};
 pub use overlay::overlay_svg;
 pub use perceive::perceive;
 pub use render::{Rendered, Solid, render_depth, render_solids};
-pub use report::{BlobReport, BlobStatus, Perception, PerceptionReport};
+pub use report::{BlobReport, BlobStatus, PastEdge, PastEdgeReport, Perception, PerceptionReport};
 pub use settings::PerceptionSettings;
 pub use table::TablePlane;

@@ -11,7 +11,7 @@ use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
 use super::occlusion::Neighbours;
-use super::report::{BlobReport, BlobStatus, Perception};
+use super::report::{BlobReport, BlobStatus, PastEdge, Perception};
 use super::settings::PerceptionSettings;
 use super::table::{TablePlane, fit_table};
 use super::track::match_prior;
@@ -143,7 +143,7 @@ fn owners(blobs: &[Blob], size: usize) -> Vec<u32> {
 
 /// The blobs judged objects but for the workspace's edge ([`Judged::past_edge`]), as objects
 /// where they lie (`Perception::past_edge`).
-fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<(usize, Object)> {
+fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<PastEdge> {
     let mut objects = Vec::new();
     for (k, (blob, judged)) in blobs.iter().zip(judged).enumerate() {
         let (true, Some(print), Some(top)) = (judged.past_edge, &judged.footprint, judged.top)
@@ -151,9 +151,9 @@ fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<(usize, Object)> 
             continue;
         };
         let centre = print.centroid();
-        objects.push((
-            k,
-            Object {
+        objects.push(PastEdge {
+            blob: k,
+            object: Object {
                 id: ObjectId(blob.label.unwrap_or(0)),
                 name: None,
                 polygon: print.translated(&-centre.coords),
@@ -161,7 +161,7 @@ fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<(usize, Object)> 
                 height: top,
                 mass: None,
             },
-        ));
+        });
     }
     objects
 }

@@ -8,7 +8,7 @@ use super::identify::{Identify, name_from_set};
 use super::table::TablePlane;
 use crate::error::{Error, Result};
 use crate::id::ObjectId;
-use crate::scene::{Gripper, Object, ObjectSet, Scene, Workspace};
+use crate::scene::{Gripper, Object, ObjectSet, ObjectSpec, Scene, Workspace};
 
 /// What became of one blob. The first four are notices; every other status blocks
 /// [`Perception::scene`], because planning on such a scene could act on an object it does not see.
@@ -103,6 +103,30 @@ pub struct PerceptionReport {
     pub gone: Vec<ObjectId>,
     /// What was changed to make the objects a valid scene.
     pub adjustments: Vec<String>,
+    /// The blobs outside the workspace or over its edge that would be objects otherwise
+    /// ([`Perception::past_edge`]); absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub past_edge: Vec<PastEdgeReport>,
+}
+
+/// A blob outside the workspace or over its edge that would be an object otherwise (whole in view,
+/// one piece, one plateau, an object's size, convex), as an object where it lies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PastEdge {
+    /// The index of its report in `blobs`.
+    pub blob: usize,
+    /// Its footprint about its centroid, yaw 0, with its label as id (0 without labels).
+    pub object: Object,
+}
+
+/// A [`PastEdge`] in the report file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct PastEdgeReport {
+    /// The index of its report in `blobs`.
+    pub blob: usize,
+    /// Its footprint about its centroid, yaw 0, with its label as id (0 without labels), in the
+    /// scene file's form.
+    pub object: ObjectSpec,
 }
 
 /// The result of `perceive`.
@@ -119,12 +143,10 @@ pub struct Perception {
     pub gone: Vec<ObjectId>,
     /// What was changed to make the objects a valid scene (overlaps cut apart, edges trimmed).
     pub adjustments: Vec<String>,
-    /// The blobs outside the workspace or over its edge that would be objects otherwise (whole
-    /// in view, one piece, one plateau, an object's size, convex), each as an object where it lies:
-    /// the index of its report in `blobs`, and its footprint about its centroid, yaw 0, with its
-    /// label as id (0 without labels). A closed loop may take such an object by itself
+    /// The blobs outside the workspace or over its edge that would be objects otherwise, each as
+    /// an object where it lies ([`PastEdge`]). A closed loop may take such an object by itself
     /// (`run.reach_past_edge`); they are not part of [`Perception::scene`].
-    pub past_edge: Vec<(usize, Object)>,
+    pub past_edge: Vec<PastEdge>,
     /// The workspace the scene is for.
     pub workspace: Workspace,
     /// The gripper the scene is for.
@@ -139,6 +161,14 @@ impl Perception {
             table: self.table,
             gone: self.gone.clone(),
             adjustments: self.adjustments.clone(),
+            past_edge: self
+                .past_edge
+                .iter()
+                .map(|p| PastEdgeReport {
+                    blob: p.blob,
+                    object: p.object.to_spec(),
+                })
+                .collect(),
         }
     }
 

@@ -274,12 +274,12 @@ impl Sim {
                 }),
                 None => {
                     self.lost.push((prism.id, reason(&blob.status)));
-                    if let Some((_, there)) = seen.past_edge.iter().find(|(j, _)| *j == k) {
+                    if let Some(there) = seen.past_edge.iter().find(|p| p.blob == k) {
                         self.past_edge.push(Object {
                             id: prism.id,
                             name: prism.name.clone(),
                             mass: Some(prism.mass),
-                            ..there.clone()
+                            ..there.object.clone()
                         });
                     }
                 }
