@@ -10,11 +10,12 @@
 //! Where `A` stands in front instead (its wall faces away from the nadir, `B` behind it), the pixels
 //! just outside are `B`'s wall seen over `A`'s top edge, below `B`'s top, and nothing changes.
 //!
-//! A side of the outline can run along `B` at one end and along the table at the other: the hull's
-//! chord from the corner where `B` starts hiding the wall to the wall's cut corner where it shows.
-//! That chord is the image of a segment on the wall from height `h_B` to the cut, so each end is
-//! cast at its own height: the end whose outside pixels are `B`'s top at `max(h_B, lift)`, the
-//! other at the side's own silhouette height `lift`.
+//! A side of the outline can run along `B` at one end and along the wall's foot at the other: the
+//! hull's chord from the top's corner where `B` hides the wall to the wall's cut corner where it
+//! shows. That chord is the image of a segment on the wall from the top down to the cut, so each
+//! end is cast at its own height, which the blob's own outermost pixels there give: the top (or
+//! `h_B`, where `B` is higher) where they stand at the top, their own height on the wall otherwise
+//! ([`end_lifts`]).
 
 use nalgebra::{Point2, Vector2};
 
