@@ -897,3 +897,54 @@ fn a_box_whose_wall_a_neighbour_hides_from_one_corner_is_seen_whole() {
         "{pair:?} against {alone:?}"
     );
 }
+
+/// A tall box pressed against the middle of a low box's wall facing the nadir hides a notch of the
+/// low box's top from the camera. With labels, the pixels of that notch are the tall box's, so the
+/// low box is no less convex for it and is found; two boxes in an L under one label still leave a
+/// notch of table and are `not_convex` (`formulations/perception.md`, "Statuses").
+#[test]
+fn a_notch_a_labelled_neighbour_hides_is_not_a_notch_but_one_of_table_is() {
+    let camera = camera();
+    let workspace = Workspace {
+        min: [0.0, 0.0],
+        max: [0.5, 0.4],
+    };
+    let low = block(1, 0.43, 0.2, (0.05, 0.06), 0.02);
+    let tall = block(2, 0.395, 0.2, (0.02, 0.02), 0.08);
+    let truth = table(vec![low, tall], workspace.clone());
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&rendered.labels),
+        ..Frame::default()
+    };
+    let seen = perceive_default(&frame, &camera, &truth, None);
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::Object, BlobStatus::Object],
+        "{:?}",
+        seen.blobs
+    );
+    // Two low boxes in an L under one label: the notch between their arms is table.
+    let l_shape = table(
+        vec![
+            block(1, 0.43, 0.2, (0.05, 0.06), 0.02),
+            block(2, 0.43, 0.26, (0.12, 0.06), 0.02),
+        ],
+        workspace,
+    );
+    let rendered = render_depth(&l_shape, &camera).unwrap();
+    let one: Vec<u32> = rendered.labels.iter().map(|&l| u32::from(l != 0)).collect();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&one),
+        ..Frame::default()
+    };
+    let seen = perceive_default(&frame, &camera, &l_shape, None);
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::NotConvex],
+        "{:?}",
+        seen.blobs
+    );
+}

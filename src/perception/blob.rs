@@ -5,7 +5,7 @@ use nalgebra::Point2;
 
 use super::blobs::four_neighbours;
 use super::camera::Camera;
-use super::footprint::{footprint, footprint_by_edges, image_hull};
+use super::footprint::{footprint, footprint_by_edges, image_hull, solidity_behind};
 use super::occlusion::{Band, Neighbours, end_lifts};
 use super::report::BlobStatus;
 use super::settings::PerceptionSettings;
@@ -310,7 +310,16 @@ pub fn judge(
     {
         image.corners = fitted;
     }
-    let solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
+    let mut solidity = hull.as_ref().map_or(0.0, |h| h.solidity);
+    // With labels, a neighbour in front may hide part of the blob: its pixels inside the blob's
+    // hull are no notch of the blob's own.
+    if let Some(n) = neighbours
+        && solidity < settings.min_solidity
+    {
+        solidity = solidity_behind(&pixels, width, |i| {
+            n.owner[i] != 0 && n.owner[i] as usize - 1 != n.index
+        });
+    }
     // A top measured from depth at or below the cut height (a flat thing, or a label lying on the
     // table) stands on nothing the mask holds: no footprint, so the blob is too small.
     let lowest_top = match blob.given_height {

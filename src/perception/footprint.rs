@@ -64,9 +64,31 @@ pub fn image_hull(pixels: &[usize], width: usize, fit_sides: bool) -> Option<Ima
     })
 }
 
+/// The solidity of `pixels` (indices into rows of `width`) as [`image_hull`] measures it, but with
+/// the pixels for which `hidden` holds counted as the blob's too: those where a neighbour in front
+/// hides it (`occlusion.rs`). 1 when the pixels lie on one line.
+pub fn solidity_behind(pixels: &[usize], width: usize, hidden: impl Fn(usize) -> bool) -> f64 {
+    let hull = convex_hull(&row_ends(pixels, width));
+    if hull.len() < 3 {
+        return 1.0;
+    }
+    solidity_with(pixels, width, &hull, 2.0, hidden)
+}
+
 /// The share of the pixel centres at least `depth` inside the counter-clockwise convex loop `hull`
 /// that are among `pixels`; 1 when no centre is that deep.
 fn solidity(pixels: &[usize], width: usize, hull: &[Point2<f64>], depth: f64) -> f64 {
+    solidity_with(pixels, width, hull, depth, |_| false)
+}
+
+/// As [`solidity`], with the pixels for which `also` holds counted among `pixels`.
+fn solidity_with(
+    pixels: &[usize],
+    width: usize,
+    hull: &[Point2<f64>],
+    depth: f64,
+    also: impl Fn(usize) -> bool,
+) -> f64 {
     let n = hull.len();
     let planes: Vec<(Vector2<f64>, f64)> = (0..n)
         .map(|k| {
@@ -83,7 +105,7 @@ fn solidity(pixels: &[usize], width: usize, hull: &[Point2<f64>], depth: f64) ->
             let p = Point2::new(u as f64, v as f64);
             if planes.iter().all(|(normal, d)| normal.dot(&p.coords) <= *d) {
                 inside += 1;
-                held += usize::from(window.holds(u as isize, v as isize));
+                held += usize::from(window.holds(u as isize, v as isize) || also(v * width + u));
             }
         }
     }
