@@ -7,11 +7,11 @@ use super::blobs::four_neighbours;
 use super::camera::Camera;
 use super::footprint::{footprint, footprint_by_edges, image_hull, solidity_behind};
 use super::occlusion::{Band, Neighbours, end_lifts};
-use super::report::BlobStatus;
+use super::report::{BlobStatus, PastEdge};
 use super::settings::PerceptionSettings;
 use super::table::TablePlane;
 use crate::geometry::ConvexPolygon;
-use crate::scene::Workspace;
+use crate::scene::{Object, ObjectId, Pose, Workspace};
 
 /// A blob's pixels and where its top height comes from.
 pub struct Blob {
@@ -445,4 +445,29 @@ pub fn position(print: &Option<ConvexPolygon>) -> Option<[f64; 2]> {
         let c: Point2<f64> = p.centroid();
         [c.x, c.y]
     })
+}
+
+/// The blobs judged objects but for the workspace's edge ([`Judged::past_edge`]), as objects
+/// where they lie (`Perception::past_edge`).
+pub fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<PastEdge> {
+    let mut objects = Vec::new();
+    for (k, (blob, judged)) in blobs.iter().zip(judged).enumerate() {
+        let (true, Some(print), Some(top)) = (judged.past_edge, &judged.footprint, judged.top)
+        else {
+            continue;
+        };
+        let centre = print.centroid();
+        objects.push(PastEdge {
+            blob: k,
+            object: Object {
+                id: ObjectId(blob.label.unwrap_or(0)),
+                name: None,
+                polygon: print.translated(&-centre.coords),
+                pose: Pose::new(centre.x, centre.y, 0.0),
+                height: top,
+                mass: None,
+            },
+        });
+    }
+    objects
 }

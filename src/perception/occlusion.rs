@@ -29,6 +29,18 @@ pub struct Neighbours<'a> {
     pub index: usize,
 }
 
+/// Per pixel of an image of `size` pixels, one more than the index of the blob (of `blobs`, each
+/// its pixel indices) that holds it; 0 for none: [`Neighbours::owner`].
+pub fn owners<'a>(blobs: impl Iterator<Item = &'a [usize]>, size: usize) -> Vec<u32> {
+    let mut owner = vec![0_u32; size];
+    for (k, pixels) in blobs.enumerate() {
+        for &i in pixels {
+            owner[i] = k as u32 + 1;
+        }
+    }
+    owner
+}
+
 /// The heights of the blob's pixels just inside a side of its outline, each with where along the
 /// side it lies (0 at its first corner, 1 at its second), in increasing height.
 pub type Band = Vec<(f64, f64)>;

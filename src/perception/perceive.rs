@@ -6,12 +6,12 @@ use std::collections::BTreeMap;
 use nalgebra::{Point2, Point3, Vector2};
 
 use super::align::in_prior_frame;
-use super::blob::{Blob, Judged, above_cut, judge, position, top_of};
+use super::blob::{Blob, Judged, above_cut, judge, past_edge_objects, position, top_of};
 use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
-use super::occlusion::Neighbours;
-use super::report::{BlobReport, BlobStatus, PastEdge, Perception};
+use super::occlusion::{Neighbours, owners};
+use super::report::{BlobReport, BlobStatus, Perception};
 use super::settings::PerceptionSettings;
 use super::table::{TablePlane, fit_table};
 use super::track::match_prior;
@@ -63,8 +63,12 @@ pub fn perceive(
         .map(|b| top_of(b, heights.as_deref(), settings))
         .collect();
     // With labels two blobs can touch, and one may hide the other's wall (`occlusion.rs`).
-    let owner = (frame.labels.is_some() && heights.is_some())
-        .then(|| owners(&blobs, frame.labels.map_or(0, <[u32]>::len)));
+    let owner = (frame.labels.is_some() && heights.is_some()).then(|| {
+        owners(
+            blobs.iter().map(|b| b.pixels.as_slice()),
+            frame.labels.map_or(0, <[u32]>::len),
+        )
+    });
     let tops: Vec<Option<f64>> = measured.iter().map(|m| m.0).collect();
     let judged: Vec<Judged> = blobs
         .iter()
@@ -127,43 +131,6 @@ pub fn perceive(
         workspace: workspace.clone(),
         gripper: gripper.clone(),
     })
-}
-
-/// Per pixel of an image of `size` pixels, one more than the index of the blob that holds it; 0
-/// for none.
-fn owners(blobs: &[Blob], size: usize) -> Vec<u32> {
-    let mut owner = vec![0_u32; size];
-    for (k, blob) in blobs.iter().enumerate() {
-        for &i in &blob.pixels {
-            owner[i] = k as u32 + 1;
-        }
-    }
-    owner
-}
-
-/// The blobs judged objects but for the workspace's edge ([`Judged::past_edge`]), as objects
-/// where they lie (`Perception::past_edge`).
-fn past_edge_objects(blobs: &[Blob], judged: &[Judged]) -> Vec<PastEdge> {
-    let mut objects = Vec::new();
-    for (k, (blob, judged)) in blobs.iter().zip(judged).enumerate() {
-        let (true, Some(print), Some(top)) = (judged.past_edge, &judged.footprint, judged.top)
-        else {
-            continue;
-        };
-        let centre = print.centroid();
-        objects.push(PastEdge {
-            blob: k,
-            object: Object {
-                id: ObjectId(blob.label.unwrap_or(0)),
-                name: None,
-                polygon: print.translated(&-centre.coords),
-                pose: Pose::new(centre.x, centre.y, 0.0),
-                height: top,
-                mass: None,
-            },
-        });
-    }
-    objects
 }
 
 /// The table fitted to the pixels inside the workspace, and every pixel's height above it.
