@@ -23,3 +23,4 @@ mod sim;
 mod support;
 mod time_model;
 mod ur5;
+mod ur5_lost;

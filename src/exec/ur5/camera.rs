@@ -9,13 +9,27 @@
 //! the last table read, each pushed object moved to where its push was planned to leave it
 //! (`Observation::read_after`). A look
 //! in which any blob blocks planning (objects merged, stacked, over the workspace's edge, …) is an
-//! error that lists them, so the robot stops rather than plan on a table it cannot see.
+//! error that lists them, so the robot stops rather than plan on a table it cannot see. An object
+//! over the edge blocks so too: a plan made without it could bring a plate down on it. Objects seen
+//! whole past the edge do not block; the look lists them (`Perception::past_edge`), for the tally
+//! of lost objects (`tally.rs`).
 
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::perception::{Camera, Frame, Identify, PerceptionSettings, perceive, read_npy};
-use crate::scene::{ObjectSet, Scene};
+use crate::scene::{Object, ObjectSet, Scene};
+
+/// One look at the table: the scene to plan on, and what the camera sees past the workspace's edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Look {
+    /// The table, validated.
+    pub scene: Scene,
+    /// The blobs seen whole past the workspace's edge that would be objects otherwise, as objects
+    /// where they lie; their ids are the camera's (labels or new ids), not the loop's. Empty for
+    /// observations without a camera.
+    pub past_edge: Vec<Object>,
+}
 
 /// A depth camera read by a shell command, for the table the robot works on.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,7 +53,7 @@ impl DepthLook {
     ///
     /// # Errors
     /// The command failing or writing no depth, a frame the camera refuses, or blobs that block.
-    pub fn read(&self, prior: Option<&Scene>) -> Result<Scene> {
+    pub fn read(&self, prior: Option<&Scene>) -> Result<Look> {
         let folder =
             std::env::temp_dir().join(format!("pushmog-look-{}-{}", std::process::id(), unique()));
         std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
@@ -51,7 +65,7 @@ impl DepthLook {
         result
     }
 
-    fn look_in(&self, folder: &Path, prior: Option<&Scene>) -> Result<Scene> {
+    fn look_in(&self, folder: &Path, prior: Option<&Scene>) -> Result<Look> {
         let (depth_path, labels_path) = (folder.join("depth.npy"), folder.join("labels.npy"));
         let output = std::process::Command::new("sh")
             .args(["-c", &self.command])
@@ -103,7 +117,10 @@ impl DepthLook {
         if let Some(set) = &self.library {
             seen.name_from(set, &Identify::default())?;
         }
-        seen.scene()
+        Ok(Look {
+            scene: seen.scene()?,
+            past_edge: seen.past_edge.into_iter().map(|p| p.object).collect(),
+        })
     }
 }
 

@@ -28,12 +28,13 @@ mod link;
 mod motion;
 mod observation;
 mod rtde;
+mod tally;
 mod urscript;
 
 use serde::{Deserialize, Serialize};
 
 pub use calibration::{Calibration, Correspondence};
-pub use camera::DepthLook;
+pub use camera::{DepthLook, Look};
 pub use config::{
     BinConfig, CalibrationConfig, ControllerConfig, GripperConfig, HeightsConfig, LookConfig,
     RobotConfig, SafetyConfig, SpeedsConfig, TimeoutsConfig,
@@ -43,6 +44,7 @@ pub use link::{DryRun, Fault, Live, RobotLink};
 pub use motion::{Action, LinearMove, Phase, Step, ToolPose, Translator, move_duration};
 pub use observation::Observation;
 pub use rtde::RobotState;
+pub use tally::{MATCH_RADIUS, NOT_IN_VIEW, OUTSIDE};
 pub use urscript::{gripper_command, gripper_line, listing, motion_program, program, step_list};
 
 use crate::error::{Error, Result};
@@ -50,7 +52,7 @@ use crate::exec::{Executor, GraspResult, Landing};
 use crate::grasp::Grasp;
 use crate::plan::{Plan, Rider};
 use crate::push::Push;
-use crate::scene::{ObjectId, Scene, SceneSpec};
+use crate::scene::{Object, ObjectId, Scene, SceneSpec};
 
 /// Carries out robot steps over a link, numbering them, checking them and stopping for good at the
 /// first fault.
@@ -238,12 +240,18 @@ pub struct ExecutedTrip {
     pub riders: Vec<Rider>,
     /// The grasp, once its trip to the bin completed (`None` when the run stopped before).
     pub grasp: Option<Grasp>,
-    /// The objects gone from the table after the trip.
+    /// The objects the trip carried: those its grasp held (or a rider it put down) that are gone
+    /// from the look after it (`tally.rs`).
     pub carried: Vec<ObjectId>,
+    /// The objects gone from a look of this trip that it did not carry: lost to planning
+    /// ([`Executor::lost`] gives the reason).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lost: Vec<ObjectId>,
 }
 
 /// The UR5 as an [`Executor`] for the closed loop: pushes and grasps go to the link; after each trip
-/// the table is observed again and the objects gone from it count as carried.
+/// the table is observed again. Of the objects gone from it, those the grasp held count as carried
+/// and the others as lost, seen past the workspace's edge or not seen at all (`tally.rs`).
 ///
 /// Observations must keep object ids from one to the next: a scene file or command must track them
 /// itself; a camera's look keeps them with the last table, moved by the pushes since, as its prior.
@@ -263,6 +271,8 @@ pub struct Ur5<L: RobotLink> {
     /// tool waits at the push's end until then).
     rise: Option<Step>,
     record: Vec<ExecutedTrip>,
+    /// What became of the objects the loop knew.
+    tally: tally::Tally,
 }
 
 impl<L: RobotLink> Ur5<L> {
@@ -277,6 +287,7 @@ impl<L: RobotLink> Ur5<L> {
             jaws: None,
             rise: None,
             record: Vec::new(),
+            tally: tally::Tally::default(),
         }
     }
 
@@ -300,6 +311,7 @@ impl<L: RobotLink> Ur5<L> {
                 riders: Vec::new(),
                 grasp: None,
                 carried: Vec::new(),
+                lost: Vec::new(),
             });
         }
         let last = self.record.len() - 1;
@@ -330,6 +342,27 @@ impl<L: RobotLink> Ur5<L> {
             .as_ref()
             .ok_or_else(|| Error::misuse("ur5 executor", "act before reset(): no table was given"))
     }
+
+    /// Looks at the table again: the tally takes what is gone (`held`, the objects a grasp made
+    /// since held), the objects newly lost go to the trip's record, and the carried are returned.
+    fn look(&mut self, held: &[ObjectId]) -> Result<Vec<ObjectId>> {
+        let look = self
+            .observation
+            .look_after(self.scene.as_ref(), &self.pushes)?;
+        let before = self.scene.as_ref().ok_or_else(|| {
+            Error::misuse("ur5 executor", "act before reset(): no table was given")
+        })?;
+        let (carried, lost) = self
+            .tally
+            .after_look(before, &look.scene, held, &look.past_edge);
+        if let Some(trip) = self.record.last_mut() {
+            trip.lost.extend(lost);
+        }
+        self.scene = Some(look.scene);
+        self.pushed = false;
+        self.pushes.clear();
+        Ok(carried)
+    }
 }
 
 impl<L: RobotLink> Executor for Ur5<L> {
@@ -345,6 +378,7 @@ impl<L: RobotLink> Executor for Ur5<L> {
         self.pushes.clear();
         self.jaws = None;
         self.record.clear();
+        self.tally.clear();
         Ok(())
     }
 
@@ -400,27 +434,28 @@ impl<L: RobotLink> Executor for Ur5<L> {
             Some(grasp),
             self.record.len(),
         )?;
-        let steps = self
-            .runner
-            .translator()
-            .grasp_and_trip(self.scene()?, grasp, &name);
+        // Objects taken from past the workspace's edge are not on the table planned on; the
+        // travel clears them too.
+        let past: Vec<Object> = self
+            .tally
+            .past_edge()
+            .into_iter()
+            .filter(|o| grasp.objects.contains(&o.id))
+            .collect();
+        let steps =
+            self.runner
+                .translator()
+                .grasp_and_trip_over(self.scene()?, &past, grasp, &name);
         self.jaws = None;
         self.run_after_rise(steps)?;
-        self.current_trip()?.grasp = Some(grasp.clone());
-        let before: Vec<ObjectId> = self.scene()?.objects().iter().map(|o| o.id).collect();
-        let after = self
-            .observation
-            .read_after(self.scene.as_ref(), &self.pushes)?;
-        self.pushes.clear();
-        let carried: Vec<ObjectId> = before
-            .into_iter()
-            .filter(|id| after.objects().iter().all(|o| o.id != *id))
-            .collect();
+        let trip = self.current_trip()?;
+        trip.grasp = Some(grasp.clone());
+        let mut held = grasp.objects.clone();
+        held.extend(trip.riders.iter().map(|r| r.object));
+        let carried = self.look(&held)?;
         if let Some(trip) = self.record.last_mut() {
             trip.carried.clone_from(&carried);
         }
-        self.scene = Some(after);
-        self.pushed = false;
         Ok(GraspResult::carried(carried))
     }
 
@@ -441,13 +476,20 @@ impl<L: RobotLink> Executor for Ur5<L> {
             if let Some(step) = away {
                 self.runner.run(vec![step])?;
             }
-            let seen = self
-                .observation
-                .read_after(self.scene.as_ref(), &self.pushes)?;
-            self.scene = Some(seen);
-            self.pushed = false;
-            self.pushes.clear();
+            self.look(&[])?;
         }
         Ok(self.scene()?.clone())
+    }
+
+    /// The objects gone from a look that no grasp held (`tally.rs`): seen past the workspace's
+    /// edge (with a camera), or not in view.
+    fn lost(&self) -> Vec<(ObjectId, &'static str)> {
+        self.tally.lost()
+    }
+
+    /// The lost objects a camera saw whole past the workspace's edge at the last look, where it saw
+    /// them, with their ids.
+    fn past_edge(&self) -> Vec<Object> {
+        self.tally.past_edge()
     }
 }

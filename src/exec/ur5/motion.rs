@@ -25,7 +25,7 @@ use super::config::RobotConfig;
 use crate::error::{Error, Result};
 use crate::grasp::Grasp;
 use crate::push::Push;
-use crate::scene::{ObjectId, Scene};
+use crate::scene::{Object, ObjectId, Scene};
 
 mod rider;
 
@@ -189,11 +189,17 @@ impl Translator {
 
     /// Travel height above the table: the tallest object plus the clearance.
     fn travel_height(&self, scene: &Scene) -> f64 {
+        self.travel_height_over(scene.objects().iter())
+    }
+
+    /// The travel height over `objects`: the configured object height, else the tallest of them,
+    /// plus the clearance.
+    fn travel_height_over<'a>(&self, objects: impl Iterator<Item = &'a Object>) -> f64 {
         let tallest = self
             .config
             .heights
             .object_height
-            .unwrap_or_else(|| scene.objects().iter().map(|o| o.height).fold(0.0, f64::max));
+            .unwrap_or_else(|| objects.map(|o| o.height).fold(0.0, f64::max));
         tallest + self.config.heights.clearance
     }
 
@@ -350,8 +356,22 @@ impl Translator {
 
     /// The six steps of a grasp and its trip to the bin, planned on `scene`.
     pub fn grasp_and_trip(&self, scene: &Scene, grasp: &Grasp, name: &str) -> Vec<Step> {
+        self.grasp_and_trip_over(scene, &[], grasp, name)
+    }
+
+    /// As [`Translator::grasp_and_trip`], with `also` objects off the scene (lying past the
+    /// workspace's edge) that the travel height must clear as well.
+    pub fn grasp_and_trip_over(
+        &self,
+        scene: &Scene,
+        also: &[Object],
+        grasp: &Grasp,
+        name: &str,
+    ) -> Vec<Step> {
         let jaws = &grasp.jaws;
-        let travel = self.travel_height(scene);
+        let travel = self
+            .travel_height(scene)
+            .max(self.travel_height_over(also.iter()));
         let vertical = self.config.speeds.vertical;
         let pose = |z| self.tool_pose(jaws.center.x, jaws.center.y, z, jaws.angle);
         let over_bin = ToolPose {

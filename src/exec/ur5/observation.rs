@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::camera::{DepthLook, unique};
+use super::camera::{DepthLook, Look, unique};
 use crate::error::{Error, Result};
 use crate::push::{Push, predict};
 use crate::scene::Scene;
@@ -36,12 +36,24 @@ impl Observation {
     /// # Errors
     /// I/O, a failing command, an invalid scene, or a look whose blobs block planning.
     pub fn read_after(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Scene> {
+        self.look_after(last, pushes).map(|look| look.scene)
+    }
+
+    /// As [`Observation::read_after`], with what a camera sees past the workspace's edge.
+    ///
+    /// # Errors
+    /// As [`Observation::read_after`].
+    pub fn look_after(&self, last: Option<&Scene>, pushes: &[Push]) -> Result<Look> {
+        let scene_only = |scene| Look {
+            scene,
+            past_edge: Vec::new(),
+        };
         // The table expected now: the last one read, each pushed object where its push was
         // planned to leave it (as it was read when that prediction is no valid scene).
         let expected = last.map(|scene| predict(scene, pushes).unwrap_or_else(|_| scene.clone()));
         match self {
             Self::Camera(look) => look.read(expected.as_ref()),
-            Self::File(path) => crate::json::read_scene(path),
+            Self::File(path) => crate::json::read_scene(path).map(scene_only),
             Self::Command(command) => {
                 // The table expected, for the command's tracker: `$PUSHMOG_PRIOR` names it.
                 let prior = expected
@@ -79,7 +91,7 @@ impl Observation {
                     ));
                 }
                 let text = String::from_utf8_lossy(&output.stdout);
-                crate::json::scene_from_json(&text, command)
+                crate::json::scene_from_json(&text, command).map(scene_only)
             }
         }
     }
