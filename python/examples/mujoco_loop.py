@@ -34,6 +34,11 @@ when the camera looks is reported lost, "a rider left on another object", as in 
 simulator; the loop tells the planner (``TripContext.record_riders`` and ``record_lost``), which
 grasps that row again with the rider aboard, as pushmog's own loop does.
 
+With the policy setting ``run.reach_past_edge`` (metres, off by default), once the workspace is empty
+but for objects lost outside it, those the camera sees there (upright or lying flat, with the same
+error as inside) are taken one at a time by themselves (``Planner.past_edge_trip``), as pushmog's own
+loop takes them; MuJoCo's table goes on past the workspace.
+
     python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
     python examples/mujoco_loop.py --seed 1 --policy push-mog-opt --settings experiments/push-mog-opt-riders.json
 """
@@ -65,6 +70,7 @@ BIN = np.array([3.0, 3.0])  # carried objects are put down here, far from the ta
 STRAIGHT = 1e-7  # sine of the smallest turn a hull keeps at a vertex (pushmog refuses below 1e-9)
 RIDING = 0.005  # m: a placed rider whose base stands this high is still on another object (as pushmog's simulator)
 RIDER_LEFT = pushmog.RIDER_LEFT  # pushmog's simulator's reason, word for word
+PAST_EDGE_STREAM = 0x7061737445646765  # mixed into the seed of the past-the-edge error stream
 
 
 def prism_mesh(vertices: np.ndarray, height: float) -> str:
@@ -157,6 +163,7 @@ class Record:
     pushes: int
     landed: bool = False
     riders: list = field(default_factory=list)  # riders put down on the row before its grasp
+    past_edge: bool = False  # an object taken from past the workspace's edge (run.reach_past_edge)
 
 
 @dataclass
@@ -165,6 +172,7 @@ class World:
 
     scene: pushmog.Scene
     sim: dict
+    seed: int = 0  # of the stream that draws the camera's error past the workspace's edge
     model: "mujoco.MjModel" = field(init=False)
     data: "mujoco.MjData" = field(init=False)
 
@@ -184,6 +192,10 @@ class World:
         self.landed_on: Optional[int] = None  # the object a pad last came down on
         self.binned: list = []
         self.placed: list = []  # riders put down and not yet carried
+        # Objects lost outside the workspace as the last look saw them there; their error comes from
+        # a stream of their own, so that seeing them changes no other draw of a run.
+        self.past_edge: list = []
+        self.past_edge_rng = np.random.default_rng([self.seed, PAST_EDGE_STREAM])
         half = self.scene.gripper["stroke"] / 2
         # Park the gripper high above the table, jaws fully open.
         self.target = np.array([0.3, 0.2, 0.3, 0.0, -2 * half])
@@ -323,9 +335,12 @@ class World:
     def observe(self, noise: float, rng: np.random.Generator) -> tuple:
         """The table as seen from above: a pushmog scene of the objects inside the workspace (a
         toppled one lying flat seen as a new, lower prism, as in pushmog's simulator), and the ids
-        lost (toppled and leaning on something, or off the workspace)."""
+        lost (toppled and leaning on something, or off the workspace). Objects lost off the workspace
+        that stand upright or lie flat are kept in ``past_edge`` as seen there (with the same
+        error), as pushmog's simulator reports them."""
         low, high = self.scene.workspace
         objects, lost = [], {}
+        self.past_edge = []
         for object_id, obj in self.objects.items():
             if object_id in self.binned:
                 continue
@@ -347,6 +362,11 @@ class World:
             actual = pushmog.Object(object_id, vertices, pushmog.Pose(x, y, yaw), height, obj.name, obj.mass)
             if outside(actual.world_vertices(), low, high):
                 lost[object_id] = "outside the workspace"
+                there = actual
+                if noise > 0:
+                    draw = self.past_edge_rng
+                    there = pushmog.Object(object_id, vertices, pushmog.Pose(x + draw.normal(0, noise), y + draw.normal(0, noise), yaw + draw.normal(0, self.sim["perception_yaw"])), height, obj.name, obj.mass)
+                self.past_edge.append(there)
                 continue
             seen = actual
             if noise > 0:
@@ -545,7 +565,7 @@ def actuation(sim: dict, rng: np.random.Generator) -> np.ndarray:
 def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise: bool, log=print) -> dict:
     """Runs the loop on one scene; returns the trips and figures."""
     sim = pushmog.default_settings("sim")
-    world = World(scene, sim)
+    world = World(scene, sim, seed)
     rng = np.random.default_rng(seed)
     context = pushmog.TripContext(seed)
     records: list = []
@@ -558,10 +578,26 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
         context.record_lost(lost)
         if fusion is not None:
             observed = fusion.fuse(observed)
+        may_go_on = in_a_row < planner.settings["run"]["max_failed_attempts"] and len(records) < 3 * len(scene)
+        if len(observed) == 0 and lost and may_go_on:
+            # As pushmog's own loop: with run.reach_past_edge, objects seen just past the
+            # workspace's edge are taken one at a time by themselves once the workspace is empty.
+            taken = planner.past_edge_trip(observed, world.past_edge, context)
+            if taken is not None:
+                trip = taken[1]
+                carried, landed = world.grasp(trip.grasp, actuation(sim, rng) if noise else np.zeros(3))
+                records.append(Record(trip.grasp.objects, carried, 0, landed, past_edge=True))
+                log(f"trip {len(records):2d}: from past the workspace's edge, predicted {trip.grasp.objects}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))
+                if carried:
+                    in_a_row = 0
+                else:
+                    in_a_row += 1
+                    context.record_failure(trip)
+                continue
         if len(observed) == 0:
             status = "cleared" if not lost else f"stopped: {len(lost)} lost ({', '.join(sorted(set(lost.values())))})"
             break
-        if in_a_row >= planner.settings["run"]["max_failed_attempts"] or len(records) >= 3 * len(scene):
+        if not may_go_on:
             status = f"stopped: {len(observed)} left after {in_a_row} fruitless attempts"
             break
         trip = planner.plan_trip(observed, context)
@@ -628,6 +664,8 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
         "agreement": agreement([(r.predicted, row_carried(r.carried, r.riders)) for r in records]),
         "multi_misses": misses([(r.predicted, row_carried(r.carried, r.riders), r.landed) for r in records]),
     }
+    if any(r.past_edge for r in records):
+        result["trips_past_edge"] = sum(r.past_edge for r in records)
     if any(r.riders for r in records):
         result["riders_placed"] = sum(len(r.riders) for r in records)
         result["riders_lost"] = sum(len([i for i in r.riders if i not in r.carried]) for r in records)
@@ -659,6 +697,12 @@ def both_engines(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, nois
         "agreement": agreement([(t["grasp"]["objects"], row_carried(t["carried"], [r["object"] for r in placed_riders(t)])) for t in trips]),
         "multi_misses": misses([(t["grasp"]["objects"], row_carried(t["carried"], [r["object"] for r in placed_riders(t)]), t.get("fault") is not None) for t in trips]),
     }
+    # A trip from past the edge is planned on another workspace, so its record holds its scene in
+    # full (the others may hold only a `scene_change`).
+    first = trips[0]["scene"]["workspace"] if trips else None
+    past_edge = sum(t.get("scene", {}).get("workspace", first) != first for t in trips)
+    if past_edge:
+        result["rapier"]["trips_past_edge"] = past_edge
     placed = [(rider["object"], t["carried"]) for t in trips for rider in placed_riders(t)]
     if placed:
         result["rapier"]["riders_placed"] = len(placed)
@@ -724,6 +768,8 @@ def main(argv: Optional[list] = None) -> int:
     print(f"  multi-object misses: MuJoCo {result['multi_misses']}, rapier {result['rapier']['multi_misses']}")
     print(f"rapier: {result['rapier']['status']}; {result['rapier']['trips']} trips; objects per trip {result['rapier']['objects_per_trip']:.3f}")
     for engine, figures in (("MuJoCo", result), ("rapier", result["rapier"])):
+        if "trips_past_edge" in figures:
+            print(f"{engine}: {figures['trips_past_edge']} trips took an object from past the workspace's edge")
         if "riders_placed" in figures:
             print(f"{engine} riders: {figures['riders_lost']} of {figures['riders_placed']} placed not carried by their trip")
     if args.json:

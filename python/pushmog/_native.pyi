@@ -41,6 +41,7 @@ class Planner:
         context: Optional[TripContext] = None,
         may_push: bool = True,
     ) -> str: ...
+    def past_edge_trip(self, scene: Scene, seen: str, context: Optional[TripContext] = None) -> str: ...
     def run(
         self,
         scene: Scene,

@@ -4,12 +4,12 @@ its loop) or clears a whole scene with pushmog's own executors."""
 from __future__ import annotations
 
 import json
-from typing import Any, Iterable, Mapping, Optional, Union
+from typing import Any, Iterable, Mapping, Optional, Tuple, Union
 
 from ._errors import PushmogError
 from . import _native
 from ._plan import Plan, TripPlan
-from ._scene import Scene, _plain
+from ._scene import Object, Scene, _plain
 
 RIDER_LEFT: str = _native.RIDER_LEFT
 """The reason an executor gives for a rider still standing on another object (its row's grasp did
@@ -194,6 +194,25 @@ class Planner:
         if answer["trip"] is None:
             return None
         return TripPlan(answer["trip"], "heuristic", float(answer["seconds"]))
+
+    def past_edge_trip(
+        self, scene: Scene, seen: Iterable[Object], context: Optional[TripContext] = None
+    ) -> Optional[Tuple[Scene, TripPlan]]:
+        """Once ``scene`` (a look at the workspace) holds nothing but objects seen lying just past
+        its edge, ``seen``: a single-object grasp of the one nearest the workspace whose every corner
+        lies within the policy's ``run.reach_past_edge`` (metres; 0, the default, turns this off),
+        as pushmog's own loop takes such objects (``formulations/grasping.md``, "Objects past the
+        workspace's edge"). Returns the table it was planned on (the workspace grown by the reach,
+        holding the objects seen there) and the trip, no pushes; ``None`` when there is none.
+        ``context`` keeps it from jaw poses that failed before."""
+        if not isinstance(scene, Scene):
+            raise TypeError(f"expected a pushmog.Scene, got {type(scene).__name__}")
+        objects = {"objects": [o.to_dict() for o in seen]}
+        native_context = None if context is None else context._native
+        answer = json.loads(self._native.past_edge_trip(scene._native, json.dumps(objects), native_context))
+        if answer["trip"] is None:
+            return None
+        return Scene.from_dict(answer["scene"]), TripPlan(answer["trip"], "heuristic", float(answer["seconds"]))
 
     def run(
         self,

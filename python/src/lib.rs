@@ -18,7 +18,9 @@ use pushmog::policy::{
 };
 use pushmog::push::Push;
 use pushmog::render::{RenderOptions, plan_svg, scene_svg};
-use pushmog::scene::{GeneratorSettings, ObjectSet, Workspace, builtin_object_set, generate_scene};
+use pushmog::scene::{
+    GeneratorSettings, Object, ObjectSet, ObjectSpec, Workspace, builtin_object_set, generate_scene,
+};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -291,6 +293,13 @@ impl TripContext {
     }
 }
 
+/// Objects seen past the workspace's edge, as `Planner.past_edge_trip` takes them.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Seen {
+    objects: Vec<ObjectSpec>,
+}
+
 /// A policy with its settings, ready to plan.
 #[pyclass(module = "pushmog._native", frozen)]
 struct Planner {
@@ -387,6 +396,43 @@ impl Planner {
         Ok(to_json(
             &serde_json::json!({ "trip": corrected, "seconds": seconds }),
         ))
+    }
+
+    /// A single-object grasp of one of `seen` (JSON `{"objects": […]}` in the scene file's form, lying
+    /// past the edge of `scene`'s workspace) within the policy's `run.reach_past_edge`
+    /// (`Policy::past_edge_trip`), not at a jaw pose the context records as failed. Returns JSON
+    /// `{"scene": …, "trip": …, "seconds": …}`: the table it was planned on (the workspace grown by
+    /// the reach) and the trip, or both `null` when there is none.
+    #[pyo3(signature = (scene, seen, context = None))]
+    fn past_edge_trip(
+        &self,
+        py: Python<'_>,
+        scene: &Scene,
+        seen: &str,
+        context: Option<&Bound<'_, TripContext>>,
+    ) -> PyResult<String> {
+        let seen: Seen = check(json::from_json(seen, "seen"))?;
+        let seen = seen
+            .objects
+            .into_iter()
+            .enumerate()
+            .map(|(index, spec)| check_scene(Object::from_spec(spec, index)))
+            .collect::<PyResult<Vec<Object>>>()?;
+        let avoid = context.map_or(Vec::new(), |c| c.borrow().context.failed.clone());
+        let table = &scene.scene;
+        let started = std::time::Instant::now();
+        let taken = py.detach(|| {
+            self.policy
+                .past_edge_trip(table.workspace(), table.gripper(), &seen, &avoid)
+        });
+        let seconds = started.elapsed().as_secs_f64();
+        let answer = match check(taken)? {
+            Some((table, trip)) => {
+                serde_json::json!({ "scene": table, "trip": trip, "seconds": seconds })
+            }
+            None => serde_json::json!({ "scene": null, "trip": null, "seconds": seconds }),
+        };
+        Ok(to_json(&answer))
     }
 
     /// Clears `scene` in a closed loop with the `ideal` executor (plans applied exactly) or the

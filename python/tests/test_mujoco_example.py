@@ -243,3 +243,39 @@ def test_mujoco_rows_carries_a_rider_that_rapier_turns_off(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "All rows: rider carried 1/1, row carried whole 1/1, landed 0" in printed
     assert rows.main(["--file", str(tmp_path / "missing.json")]) == 2
+
+
+def test_an_object_just_past_the_edge_is_seen_there_and_taken_by_itself():
+    """An object lying just past the workspace's edge is lost from the look but kept in
+    ``World.past_edge`` where it lies; ``Planner.past_edge_trip`` plans its grasp there, and MuJoCo's
+    gripper carries it (the table goes on past the workspace)."""
+    example = load_example()
+    import mujoco
+    import numpy as np
+    import pushmog
+
+    base = pushmog.generate_scene(1, seed=2)
+    low, high = base.workspace
+    square = [[-0.015, -0.015], [0.015, -0.015], [0.015, 0.015], [-0.015, 0.015]]
+    box = pushmog.Object(0, square, pushmog.Pose(high[0] - 0.05, 0.2, 0.0), 0.03, "box", None)
+    scene = pushmog.Scene.from_objects([box], gripper=base.gripper, workspace=base.workspace)
+    world = example.World(scene, pushmog.default_settings("sim"))
+    observed, lost = world.observe(0.0, None)
+    assert len(observed) == 1 and not lost and world.past_edge == []
+    # Moved so that its near side lies 5 mm past the right-hand edge.
+    address = world.qpos[0]
+    world.data.qpos[address] = high[0] + 0.02
+    mujoco.mj_forward(world.model, world.data)
+    world.wait(0.2)
+    observed, lost = world.observe(0.0, None)
+    assert len(observed) == 0 and lost == {0: "outside the workspace"}
+    (seen,) = world.past_edge
+    assert seen.id == 0 and abs(seen.pose.x - (high[0] + 0.02)) < 1e-3
+    planner = pushmog.Planner("sog", {"run": {"reach_past_edge": 0.05}})
+    context = pushmog.TripContext(0)
+    context.record_lost(lost)
+    _, trip = planner.past_edge_trip(observed, world.past_edge, context)
+    carried, landed = world.grasp(trip.grasp, np.zeros(3))
+    assert carried == [0] and not landed
+    observed, lost = world.observe(0.0, None)
+    assert len(observed) == 0 and not lost and world.past_edge == []

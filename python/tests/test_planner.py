@@ -344,3 +344,33 @@ def test_a_rider_left_standing_is_grasped_with_its_row(scene):
     again = planner.plan_trip(pushed, context)
     assert again is not None and not again.pushes and not again.riders
     assert set(rider["on"]) <= set(again.grasp.objects)
+
+
+def test_an_object_just_past_the_edge_is_taken_by_itself_within_the_reach():
+    """``Planner.past_edge_trip`` (as pushmog's own loop with ``run.reach_past_edge``): off by
+    default; with a 5 cm reach a single grasp of the object, planned on the workspace grown by the
+    reach; an object farther out is left; failed jaws are not tried again; a bad outline names its
+    field."""
+    empty = pushmog.Scene.from_objects([])
+    low, high = empty.workspace
+    square = [[-0.015, -0.015], [0.015, -0.015], [0.015, 0.015], [-0.015, 0.015]]
+    # 5 mm past the right-hand edge, and one 10 cm out.
+    near = pushmog.Object(3, square, pushmog.Pose(high[0] + 0.02, 0.2, 0.1), 0.03, "box", 0.05)
+    far = pushmog.Object(4, square, pushmog.Pose(high[0] + 0.115, 0.1, 0.0), 0.03)
+    assert pushmog.Planner("push-mog-opt").past_edge_trip(empty, [near]) is None
+    planner = pushmog.Planner("push-mog-opt", {"run": {"reach_past_edge": 0.05}})
+    assert planner.past_edge_trip(empty, [far]) is None
+    context = pushmog.TripContext(0)
+    table, trip = planner.past_edge_trip(empty, [near, far], context)
+    grown_low, grown_high = table.workspace
+    assert np.allclose(grown_low, low - 0.05) and np.allclose(grown_high, high + 0.05)
+    assert table.ids == [3] and table.objects[0].name == "box"
+    assert trip.pushes == [] and trip.grasp.objects == [3]
+    assert trip.grasp.jaws.center[0] > high[0]
+    # Carried nothing: those jaws are not proposed again.
+    context.record_failure(trip)
+    again = planner.past_edge_trip(empty, [near], context)
+    assert again is None or again[1].grasp.jaws.to_dict() != trip.grasp.jaws.to_dict()
+    with pytest.raises(pushmog.SceneError) as raised:
+        planner.past_edge_trip(empty, [pushmog.Object(5, [[0, 0], [0.01, 0], [0.02, 0]], pushmog.Pose(0.7, 0.2, 0.0), 0.03)])
+    assert raised.value.field == "vertices"

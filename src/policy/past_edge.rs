@@ -41,9 +41,13 @@ impl Policy {
     /// reaching past the edge is off, nothing seen lies within reach, or no such object has a
     /// grasp that is not in the place of one of `avoid`.
     ///
+    /// `avoid` are jaw poses not to try again (a closed loop's failed grasps). Closed loops of
+    /// their own (another engine, a robot stack) call it once their workspace is empty but for
+    /// objects they see past its edge, as [`crate::policy::Run`] does.
+    ///
     /// # Errors
     /// Misuse only.
-    pub(super) fn past_edge_trip(
+    pub fn past_edge_trip(
         &self,
         workspace: &Workspace,
         gripper: &Gripper,
