@@ -131,6 +131,24 @@ pub fn read_scene(path: &Path) -> Result<Scene> {
     scene_from_json(&read_text(path)?, &path.display().to_string())
 }
 
+/// `over` laid onto `base`: tables merged key by key, anything else replaced.
+pub fn lay_over(base: &mut serde_json::Value, over: &serde_json::Map<String, serde_json::Value>) {
+    let serde_json::Value::Object(base) = base else {
+        *base = serde_json::Value::Object(over.clone());
+        return;
+    };
+    for (key, value) in over {
+        match (base.get_mut(key), value) {
+            (Some(slot @ serde_json::Value::Object(_)), serde_json::Value::Object(inner)) => {
+                lay_over(slot, inner);
+            }
+            _ => {
+                base.insert(key.clone(), value.clone());
+            }
+        }
+    }
+}
+
 /// Writes `text` to `path`, creating parent folders.
 ///
 /// # Errors

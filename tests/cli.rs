@@ -544,3 +544,74 @@ fn the_push_mog_time_settings_file_plans_as_the_experiment_does() {
         Some(0)
     );
 }
+
+/// A named preset is its policy with its settings: `plan --policy push-mog-time-riders` writes the
+/// plan of `--policy push-mog-opt` with the settings file and riders on, byte for byte, and
+/// `--settings` are laid over the preset's.
+#[test]
+fn a_named_preset_plans_as_its_policy_with_its_settings() {
+    let dir = scratch("preset-plan");
+    let scene = dir.join("scene.json");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    pushmog(&[
+        "scene",
+        "generate",
+        "--seed",
+        "4",
+        "-o",
+        &path("scene.json"),
+    ]);
+    let experiments = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let mut settings: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(experiments.join("push-mog-time.json")).unwrap(),
+    )
+    .unwrap();
+    settings["riders"] = serde_json::json!({ "enabled": true });
+    std::fs::write(dir.join("written.json"), settings.to_string()).unwrap();
+    std::fs::write(
+        dir.join("over.json"),
+        r#"{ "run": { "reach_past_edge": 0.05 } }"#,
+    )
+    .unwrap();
+    let plan = |args: &[&str], out: &str| {
+        let mut all = vec!["plan", scene.to_str().unwrap(), "--seed", "2"];
+        all.extend_from_slice(args);
+        let output_path = path(out);
+        all.extend_from_slice(&["-o", &output_path]);
+        let output = pushmog(&all);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        std::fs::read_to_string(dir.join(out)).unwrap()
+    };
+    let preset = plan(&["--policy", "push-mog-time-riders"], "preset.json");
+    let written_out = plan(
+        &[
+            "--policy",
+            "push-mog-opt",
+            "--settings",
+            &path("written.json"),
+        ],
+        "written-out.json",
+    );
+    assert_eq!(preset, written_out);
+    assert!(preset.contains("\"riders\""), "a rider is planned");
+    let over = plan(
+        &[
+            "--policy",
+            "push-mog-time-riders",
+            "--settings",
+            &path("over.json"),
+        ],
+        "over-plan.json",
+    );
+    let over: serde_json::Value = serde_json::from_str(&over).unwrap();
+    assert_eq!(over["settings"]["run"]["reach_past_edge"], 0.05);
+    assert_eq!(over["settings"]["run"]["fuse_looks"], true);
+    assert_eq!(over["settings"]["riders"]["enabled"], true);
+    let unknown = pushmog(&["plan", scene.to_str().unwrap(), "--policy", "push-mog-fast"]);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&unknown.stderr).contains("push-mog-time-riders"));
+}

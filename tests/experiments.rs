@@ -708,3 +708,35 @@ fn a_settings_file_is_the_same_configuration_as_its_settings_written_inline() {
     let not_a_path = ExperimentConfig::read(&path).unwrap_err().to_string();
     assert!(not_a_path.contains("settings_file"), "{not_a_path}");
 }
+
+/// A preset's name in a policy entry is its policy with its settings, the entry's own laid over
+/// them, labelled with the preset's name unless the entry gives a label: the configuration read is
+/// the one written out with the settings file, down to its `config_hash`.
+#[test]
+fn a_preset_name_is_the_same_configuration_as_its_settings_written_out() {
+    let experiments = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let head = "name = \"presets\"\n[scenes]\nobjects = [8]\ncount = 2\n";
+    let named = format!(
+        "{head}[[policies]]\nname = \"push-mog-time-riders\"\nsettings = {{ run = {{ reach_past_edge = 0.05 }} }}\n\
+         [[policies]]\nname = \"push-mog-opt-riders\"\nlabel = \"opt with riders\"\n"
+    );
+    let written = format!(
+        "{head}[[policies]]\nname = \"push-mog-opt\"\nlabel = \"push-mog-time-riders\"\n\
+         settings_file = \"push-mog-time.json\"\n\
+         settings = {{ riders = {{ enabled = true }}, run = {{ reach_past_edge = 0.05 }} }}\n\
+         [[policies]]\nname = \"push-mog-opt\"\nlabel = \"opt with riders\"\n\
+         settings = {{ riders = {{ enabled = true }} }}\n"
+    );
+    let named = ExperimentConfig::from_toml(&named, "named").unwrap();
+    let written = ExperimentConfig::from_toml_in(&written, "written", &experiments).unwrap();
+    assert_eq!(named, written);
+    assert_eq!(
+        pushmog::experiment::log::config_hash(&named),
+        pushmog::experiment::log::config_hash(&written)
+    );
+    assert!(named.policies[0].settings.run.fuse_looks);
+    assert_eq!(named.policies[0].settings.run.reach_past_edge, 0.05);
+    let wrong = format!("{head}[[policies]]\nname = \"push-mog-time\"\nsettings = {{ run = 3 }}\n");
+    let error = ExperimentConfig::from_toml(&wrong, "wrong").unwrap_err();
+    assert!(error.to_string().contains("run"), "{error}");
+}

@@ -26,23 +26,10 @@ import mujoco_loop  # noqa: E402
 import pushmog  # noqa: E402
 
 
-# Named settings run as a policy of their own: push-mog-time is push-mog-opt with the settings file
-# that experiments/picks-per-hour.toml gives it, push-mog-time-riders the same with riders on (as
-# experiments/stacking.toml runs it).
-EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
-PRESETS = {
-    "push-mog-time": ("push-mog-opt", EXPERIMENTS / "push-mog-time.json", {}),
-    "push-mog-time-riders": ("push-mog-opt", EXPERIMENTS / "push-mog-time.json", {"riders": {"enabled": True}}),
-}
-
-
 def planner(name: str) -> pushmog.Planner:
-    """The planner of a policy or of a preset."""
-    if name in PRESETS:
-        policy, path, extra = PRESETS[name]
-        settings = json.loads(path.read_text())
-        settings.update(extra)
-        return pushmog.Planner(policy, settings=settings)
+    """The planner of a policy or of a named preset (``pushmog.PRESETS``: push-mog-time is
+    push-mog-opt with ``experiments/push-mog-time.json``, push-mog-time-riders the same with riders
+    on, as ``experiments/stacking.toml`` runs them)."""
     return pushmog.Planner(name)
 
 
@@ -119,7 +106,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1-10")
     parser.add_argument("--objects", type=int, default=34)
-    parser.add_argument("--policies", nargs="+", default=["push-mog", "push-mog-opt"], choices=[*pushmog.POLICIES, *PRESETS])
+    parser.add_argument("--policies", nargs="+", default=["push-mog", "push-mog-opt"], choices=[*pushmog.POLICIES, *pushmog.PRESETS])
     parser.add_argument("--out", default="paper/tables")
     parser.add_argument("--runs", default="experiments/results/mujoco")
     parser.add_argument("--jobs", type=int, default=2)

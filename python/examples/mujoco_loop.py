@@ -40,7 +40,7 @@ error as inside) are taken one at a time by themselves (``Planner.past_edge_trip
 loop takes them; MuJoCo's table goes on past the workspace.
 
     python examples/mujoco_loop.py --objects 34 --seed 1 --policy push-mog-opt
-    python examples/mujoco_loop.py --seed 1 --policy push-mog-opt --settings experiments/push-mog-opt-riders.json
+    python examples/mujoco_loop.py --seed 1 --policy push-mog-time-riders
 """
 
 from __future__ import annotations
@@ -739,7 +739,7 @@ def main(argv: Optional[list] = None) -> int:
     parser.add_argument("--objects", type=int, default=34)
     parser.add_argument("--seed", type=int, default=1, help="scene seed (pushmog scene generate --seed)")
     parser.add_argument("--scene", help="a scene JSON file instead of a generated one")
-    parser.add_argument("--policy", default="push-mog-opt", choices=pushmog.POLICIES)
+    parser.add_argument("--policy", default="push-mog-opt", choices=[*pushmog.POLICIES, *pushmog.PRESETS])
     parser.add_argument("--settings", help="policy settings, a JSON file (pushmog schema policy), e.g. experiments/push-mog-opt-riders.json")
     parser.add_argument("--noise", action="store_true", help="perception and actuation noise as pushmog's simulator")
     parser.add_argument("--json", help="write the figures to this file")

@@ -20,13 +20,14 @@ from . import _native
 from ._errors import FileError, FormatError, PlanError, PushmogError, SceneError, SettingsError
 from ._plan import Grasp, JawPose, Plan, Push, TripPlan
 from ._perception import Camera, Perception, labels_from_masks, perceive, render_depth
-from ._planner import POLICIES, RIDER_LEFT, LookFusion, NoTrip, Planner, TripContext
+from ._planner import POLICIES, PRESETS, RIDER_LEFT, LookFusion, NoTrip, Planner, TripContext
 from ._scene import Object, Pose, Scene, builtin_object_set, generate_scene
 
 __version__ = _native.version()
 
 __all__ = [
     "POLICIES",
+    "PRESETS",
     "RIDER_LEFT",
     "Camera",
     "Perception",

@@ -15,9 +15,15 @@ RIDER_LEFT: str = _native.RIDER_LEFT
 """The reason an executor gives for a rider still standing on another object (its row's grasp did
 not carry it), as :meth:`TripContext.record_lost` expects it."""
 
-__all__ = ["POLICIES", "RIDER_LEFT", "Planner", "TripContext", "NoTrip", "LookFusion"]
+__all__ = ["POLICIES", "PRESETS", "RIDER_LEFT", "Planner", "TripContext", "NoTrip", "LookFusion"]
 
 POLICIES = tuple(_native.policies())
+"""The six policies."""
+
+PRESETS = {name: (policy, about) for name, policy, about in _native.presets()}
+"""The named presets: each a policy with settings of its own (``push-mog-time``,
+``push-mog-time-riders``, ``push-mog-opt-riders``), by name: ``(policy, what it is)``. A
+:class:`Planner` takes their names too, with ``settings`` laid over the preset's."""
 
 
 class NoTrip(PushmogError):
@@ -136,8 +142,9 @@ class LookFusion:
 class Planner:
     """A policy with its settings.
 
-    ``policy`` is one of :data:`POLICIES`; ``settings`` overrides policy settings (a dict in the
-    format of ``pushmog schema policy``; missing fields keep their defaults). Invalid settings raise
+    ``policy`` is one of :data:`POLICIES` or a preset of :data:`PRESETS`; ``settings`` overrides
+    policy settings (a dict in the format of ``pushmog schema policy``; missing fields keep their
+    defaults, or the preset's, laid over key by key). Invalid settings raise
     ``ValueError`` naming the field. Planning releases the GIL, so threads plan in parallel."""
 
     __slots__ = ("_native", "policy")

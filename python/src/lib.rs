@@ -308,17 +308,15 @@ struct Planner {
 
 #[pymethods]
 impl Planner {
-    /// `policy` is a preset name (`sog`, `mog`, `push-mog`, `push-mog-milp`, `push-mog-socp`,
-    /// `push-mog-opt`); `settings` a JSON document of policy settings (missing fields keep their
-    /// defaults).
+    /// `policy` is a policy (`sog`, `mog`, `push-mog`, `push-mog-milp`, `push-mog-socp`,
+    /// `push-mog-opt`) or a named preset (`presets()`); `settings` a JSON document of policy
+    /// settings (missing fields keep their defaults, or the preset's).
     #[new]
     #[pyo3(signature = (policy, settings = None))]
     fn new(policy: &str, settings: Option<&str>) -> PyResult<Self> {
-        let kind: PolicyKind = check(policy.parse())?;
-        let settings = match settings {
-            Some(text) => check_settings(json::from_json::<PolicySettings>(text, "settings"))?,
-            None => PolicySettings::default(),
-        };
+        let (kind, settings) = check_settings(pushmog::policy::preset::resolve(
+            policy, settings, "settings",
+        ))?;
         Ok(Self {
             policy: check(Policy::new(kind, settings))?,
         })
@@ -553,10 +551,19 @@ fn schema(name: &str) -> PyResult<String> {
         })
 }
 
-/// The names of the policy presets.
+/// The names of the six policies.
 #[pyfunction]
 fn policies() -> Vec<&'static str> {
     PolicyKind::ALL.iter().map(|kind| kind.name()).collect()
+}
+
+/// The named presets: `(name, policy, what it is)`.
+#[pyfunction]
+fn presets() -> Vec<(&'static str, &'static str, &'static str)> {
+    pushmog::policy::preset::PRESETS
+        .iter()
+        .map(|p| (p.name, p.kind.name(), p.about))
+        .collect()
 }
 
 /// Default settings, as JSON: `policy` or `sim` (the rapier simulator's physical parameters).
@@ -593,6 +600,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(plan_to_svg, module)?)?;
     module.add_function(wrap_pyfunction!(schema, module)?)?;
     module.add_function(wrap_pyfunction!(policies, module)?)?;
+    module.add_function(wrap_pyfunction!(presets, module)?)?;
     module.add_function(wrap_pyfunction!(defaults, module)?)?;
     module.add_function(wrap_pyfunction!(version, module)?)?;
     module.add_function(wrap_pyfunction!(perception::perceive, module)?)?;

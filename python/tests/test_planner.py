@@ -374,3 +374,21 @@ def test_an_object_just_past_the_edge_is_taken_by_itself_within_the_reach():
     with pytest.raises(pushmog.SceneError) as raised:
         planner.past_edge_trip(empty, [pushmog.Object(5, [[0, 0], [0.01, 0], [0.02, 0]], pushmog.Pose(0.7, 0.2, 0.0), 0.03)])
     assert raised.value.field == "vertices"
+
+
+def test_a_named_preset_is_its_policy_with_its_settings():
+    """``Planner("push-mog-time-riders")`` plans as push-mog-opt with ``experiments/push-mog-time.json``
+    and riders on; settings given are laid over the preset's; an unknown name lists the presets."""
+    assert set(pushmog.PRESETS) == {"push-mog-time", "push-mog-time-riders", "push-mog-opt-riders"}
+    assert all(policy in pushmog.POLICIES for policy, _ in pushmog.PRESETS.values())
+    settings = json.loads((Path(__file__).resolve().parents[2] / "experiments" / "push-mog-time.json").read_text())
+    settings["riders"] = {"enabled": True}
+    named = pushmog.Planner("push-mog-time-riders")
+    written = pushmog.Planner("push-mog-opt", settings)
+    assert named.settings == written.settings
+    scene = pushmog.generate_scene(16, seed=4)
+    assert named.plan_trip(scene).to_dict() == written.plan_trip(scene).to_dict()
+    over = pushmog.Planner("push-mog-time-riders", {"run": {"reach_past_edge": 0.05}}).settings
+    assert over["run"]["reach_past_edge"] == 0.05 and over["run"]["fuse_looks"] and over["riders"]["enabled"]
+    with pytest.raises(pushmog.SettingsError, match="push-mog-time-riders"):
+        pushmog.Planner("push-mog-fast")

@@ -29,7 +29,9 @@
 //! policies = { riders = { checks = { acceleration = 2.0 } } }
 //!
 //! [[policies]]
-//! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt
+//! name = "push-mog"                 # sog, mog, push-mog, push-mog-milp, push-mog-socp, push-mog-opt,
+//!                                   # or a named preset (push-mog-time, push-mog-time-riders,
+//!                                   # push-mog-opt-riders; `settings` laid over its own)
 //! settings = { }                    # policy settings (any subset)
 //! settings_file = "mine.json"       # optional: settings from a JSON file, `settings` laid over it
 //! clusterer = "milp"                # optional: replace the preset's clusterer (hierarchical, milp)
@@ -49,8 +51,8 @@ use crate::exec::SimSettings;
 use crate::policy::{ClustererKind, Policy, PolicyKind, PolicySettings, PusherKind};
 use crate::scene::{GeneratorSettings, MAX_OBJECTS, ObjectSet, Workspace, builtin_object_set};
 
-use super::settings_file;
 pub use super::sweep::{SweepConfig, Variant};
+use super::{preset_names, settings_file};
 
 /// Most runs one experiment may hold: a million lines of log, about 1 GB; larger studies are split
 /// into several experiments (or shards of one).
@@ -147,7 +149,9 @@ pub use crate::exec::ExecutorKind;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PolicyConfig {
-    /// The policy.
+    /// The policy. A configuration file may also name a preset (`push-mog-time`,
+    /// `push-mog-time-riders`, `push-mog-opt-riders`): reading it resolves the name into its policy,
+    /// settings and label (`preset_names.rs`).
     pub name: PolicyKind,
     /// A label for tables (default: the policy's name).
     #[serde(default)]
@@ -247,9 +251,11 @@ impl ExperimentConfig {
             Error::field(name, "toml", e.to_string().trim().replace('\n', " "))
         };
         let mut document: toml::Table = toml::from_str(text).map_err(refuse)?;
-        // Without settings files the text is read directly, so errors keep their line and column.
-        let config: Self = if settings_file::any(&document) {
+        // Without settings files or preset names the text is read directly, so errors keep their
+        // line and column.
+        let config: Self = if settings_file::any(&document) || preset_names::any(&document) {
             settings_file::resolve(&mut document, folder, name)?;
+            preset_names::resolve(&mut document, name)?;
             document.try_into().map_err(refuse)?
         } else {
             toml::from_str(text).map_err(refuse)?

@@ -13,6 +13,7 @@ mod cluster_comparison;
 mod config;
 pub mod figures;
 pub mod log;
+mod preset_names;
 mod push_comparison;
 mod report;
 mod runner;

@@ -10,7 +10,6 @@
 
 use std::path::Path;
 
-use super::sweep::lay_over;
 use crate::error::{Error, Result};
 use crate::policy::PolicySettings;
 
@@ -99,7 +98,7 @@ pub(super) fn resolve(document: &mut toml::Table, base: &Path, name: &str) -> Re
             let serde_json::Value::Object(own) = own else {
                 return Err(refuse("must be a table of policy settings".to_string()));
             };
-            lay_over(&mut settings, &own);
+            crate::json::lay_over(&mut settings, &own);
         }
         let settings = toml::Value::try_from(&settings)
             .map_err(|e| Error::field(&source, "settings", e.to_string()))?;

@@ -145,27 +145,6 @@ impl Variant {
     }
 }
 
-/// `over` laid onto `base`: tables merged key by key, anything else replaced.
-pub(super) fn lay_over(
-    base: &mut serde_json::Value,
-    over: &serde_json::Map<String, serde_json::Value>,
-) {
-    let serde_json::Value::Object(base) = base else {
-        *base = serde_json::Value::Object(over.clone());
-        return;
-    };
-    for (key, value) in over {
-        match (base.get_mut(key), value) {
-            (Some(slot @ serde_json::Value::Object(_)), serde_json::Value::Object(inner)) => {
-                lay_over(slot, inner);
-            }
-            _ => {
-                base.insert(key.clone(), value.clone());
-            }
-        }
-    }
-}
-
 /// `settings` with `over` laid onto them and read back; errors name `field` of the variant `label`.
 fn with_overrides<T>(
     settings: &T,
@@ -183,6 +162,6 @@ where
         Error::field(format!("sweep variant `{label}`"), field, e.to_string())
     };
     let mut value = serde_json::to_value(settings).map_err(refuse)?;
-    lay_over(&mut value, over);
+    crate::json::lay_over(&mut value, over);
     serde_json::from_value(value).map_err(refuse)
 }

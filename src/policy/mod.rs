@@ -243,6 +243,7 @@ mod fuse;
 mod no_trip;
 mod past_edge;
 mod perched;
+pub mod preset;
 mod price;
 mod riders;
 mod run;

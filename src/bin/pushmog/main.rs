@@ -130,13 +130,15 @@ struct GenerateArgs {
 struct PlanArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
-    /// Policy.
+    /// Policy: one of the six, or a named preset (`push-mog-time`, `push-mog-time-riders`,
+    /// `push-mog-opt-riders`: a policy with settings of its own, `--settings` laid over them).
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Seed of the policy's random choices.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Policy settings as JSON (fields not given keep their defaults; `pushmog schema policy`).
+    /// Policy settings as JSON (fields not given keep their defaults, or a preset's;
+    /// `pushmog schema policy`).
     #[arg(long)]
     settings: Option<PathBuf>,
     /// Output file (default: standard output).
@@ -148,7 +150,8 @@ struct PlanArgs {
 struct RunArgs {
     /// Scene file (`-` for standard input).
     scene: PathBuf,
-    /// Policy.
+    /// Policy: one of the six, or a named preset (`push-mog-time`, `push-mog-time-riders`,
+    /// `push-mog-opt-riders`: a policy with settings of its own, `--settings` laid over them).
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
     /// Executor.
@@ -166,7 +169,7 @@ struct RunArgs {
     /// Seed of the policy's random choices.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Policy settings as JSON (fields not given keep their defaults).
+    /// Policy settings as JSON (fields not given keep their defaults, or a preset's).
     #[arg(long)]
     settings: Option<PathBuf>,
     /// Also write the run's plan as JSON here.
@@ -215,7 +218,7 @@ struct ExecuteArgs {
     /// Policy of the closed loop.
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
-    /// Policy settings as JSON (fields not given keep their defaults).
+    /// Policy settings as JSON (fields not given keep their defaults, or a preset's).
     #[arg(long)]
     settings: Option<PathBuf>,
     /// Seed of the policy's random choices.
@@ -285,7 +288,7 @@ struct AgreementArgs {
     /// Policy whose grasps are replayed.
     #[arg(long, default_value = "push-mog", value_parser = policy_names())]
     policy: String,
-    /// Policy settings as JSON (fields not given keep their defaults).
+    /// Policy settings as JSON (fields not given keep their defaults, or a preset's).
     #[arg(long)]
     settings: Option<PathBuf>,
     /// Simulator settings as JSON (its noise is used for the noisy replays).
@@ -468,9 +471,10 @@ fn main() -> ExitCode {
     }
 }
 
-/// The policy names `--policy` accepts (a usage error, exit 2, for any other).
+/// The policy names `--policy` accepts, the six policies and the named presets (a usage error,
+/// exit 2, for any other).
 fn policy_names() -> clap::builder::PossibleValuesParser {
-    clap::builder::PossibleValuesParser::new(pushmog::policy::PolicyKind::ALL.map(|k| k.name()))
+    clap::builder::PossibleValuesParser::new(pushmog::policy::preset::policy_names())
 }
 
 /// `--scale`: a finite number of pixels per metre in a range that gives a drawing a viewer opens.

@@ -7,7 +7,7 @@ use std::path::Path;
 use pushmog::error::{Error, Result};
 use pushmog::json;
 use pushmog::plan::{Plan, RunStatus};
-use pushmog::policy::{Policy, PolicyKind, PolicySettings};
+use pushmog::policy::Policy;
 use pushmog::scene::Scene;
 
 /// Reads a file, or standard input for `-`.
@@ -57,14 +57,15 @@ pub(super) fn settings_or_default<T: serde::de::DeserializeOwned + Default>(
     }
 }
 
+/// The policy `name` (one of the six or a named preset) with the settings of the file `settings`
+/// laid over its own.
 pub(crate) fn policy(name: &str, settings: Option<&Path>) -> Result<Policy> {
-    let kind: PolicyKind = name.parse()?;
-    let settings = match settings {
+    let (kind, settings) = match settings {
         Some(path) => {
             let (text, source) = read_input(path)?;
-            json::from_json::<PolicySettings>(&text, &source)?
+            pushmog::policy::preset::resolve(name, Some(&text), &source)?
         }
-        None => PolicySettings::default(),
+        None => pushmog::policy::preset::resolve(name, None, "settings")?,
     };
     Policy::new(kind, settings)
 }
