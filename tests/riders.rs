@@ -285,3 +285,97 @@ fn a_rider_left_standing_goes_with_its_row_grasped_again() {
         }
     }
 }
+
+/// Drops the first rider a grasp carries: the row goes to the bin whole and the rider falls back
+/// onto the table where it was put down (the row has gone from under it).
+struct FirstRiderFalls {
+    table: Scene,
+    placed: Vec<pushmog::plan::Rider>,
+    fell: Option<pushmog::scene::ObjectId>,
+}
+
+impl crate::support::GraspHook for FirstRiderFalls {
+    fn grasp(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        grasp: &pushmog::grasp::Grasp,
+    ) -> pushmog::Result<pushmog::exec::GraspResult> {
+        use pushmog::exec::Executor;
+        let mut result = table.grasp(grasp)?;
+        if self.fell.is_some() {
+            return Ok(result);
+        }
+        let Some(rider) = self
+            .placed
+            .iter()
+            .find(|r| result.carried.contains(&r.object))
+            .cloned()
+        else {
+            return Ok(result);
+        };
+        self.fell = Some(rider.object);
+        result.carried.retain(|&id| id != rider.object);
+        let seen = table.observe()?;
+        let mut objects = seen.objects().to_vec();
+        let mut fallen = self.table.objects()[self.table.index_of(rider.object).unwrap()].clone();
+        fallen.pose = rider.place;
+        objects.push(fallen);
+        table.reset(&seen.with_objects(objects)?)?;
+        Ok(result)
+    }
+
+    fn place(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        rider: &pushmog::plan::Rider,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        use pushmog::exec::Executor;
+        self.placed.push(rider.clone());
+        table.place(rider)
+    }
+}
+
+/// A rider that stays behind while the row it rode on goes to the bin whole fell off a row held in
+/// the jaws (`formulations/stacking.md`, "Riders that fell off"): it is not offered as a rider
+/// again, the run still clears, taking it otherwise, and every plan verifies.
+#[test]
+fn a_rider_that_fell_off_a_row_carried_whole_does_not_ride_again() {
+    let policy = Policy::new(PolicyKind::PushMogOpt, crate::support::with_riders()).unwrap();
+    for seed in 1..=3 {
+        let table = scene(seed);
+        let mut executor = crate::support::Rigged {
+            table: policy.ideal(),
+            hook: FirstRiderFalls {
+                table: table.clone(),
+                placed: Vec::new(),
+                fell: None,
+            },
+        };
+        let plan = policy.run(&table, &mut executor, seed).unwrap();
+        let fell = executor.hook.fell.unwrap();
+        assert!(verify(&plan).is_empty(), "seed {seed}: {:?}", verify(&plan));
+        assert!(matches!(plan.status, RunStatus::Cleared), "seed {seed}");
+        let rides: Vec<usize> = (0..plan.trips.len())
+            .filter(|&k| plan.trips[k].plan.riders.iter().any(|r| r.object == fell))
+            .collect();
+        assert_eq!(
+            rides.len(),
+            1,
+            "seed {seed}: object {fell} rode in trips {rides:?}"
+        );
+        let k = rides[0];
+        assert!(!plan.trips[k].carried.contains(&fell));
+        assert!(
+            plan.trips[k + 1..]
+                .iter()
+                .any(|t| t.carried.contains(&fell))
+        );
+        // Riders still ride after it: only the object that fell is passed over.
+        assert!(
+            plan.trips[k + 1..]
+                .iter()
+                .any(|t| !t.plan.riders.is_empty()),
+            "seed {seed}"
+        );
+    }
+}

@@ -91,8 +91,7 @@ pub fn run(kind: pushmog::policy::PolicyKind, scene: &Scene, seed: u64) -> pushm
     policy.run(scene, &mut executor, seed).unwrap()
 }
 
-/// A test executor: the ideal executor, whose grasps go through `hook`; its places are the ideal
-/// executor's.
+/// A test executor: the ideal executor, whose grasps and places go through `hook`.
 pub struct Rigged<H> {
     pub table: pushmog::exec::Ideal,
     pub hook: H,
@@ -113,6 +112,15 @@ pub trait GraspHook {
     /// Objects seen past the workspace's edge; none by default.
     fn past_edge(&self) -> Vec<Object> {
         Vec::new()
+    }
+    /// Puts a rider down; the ideal executor's place by default.
+    fn place(
+        &mut self,
+        table: &mut pushmog::exec::Ideal,
+        rider: &pushmog::plan::Rider,
+    ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
+        use pushmog::exec::Executor;
+        table.place(rider)
     }
 }
 
@@ -142,7 +150,7 @@ impl<H: GraspHook> pushmog::exec::Executor for Rigged<H> {
         &mut self,
         rider: &pushmog::plan::Rider,
     ) -> pushmog::Result<Option<pushmog::exec::Landing>> {
-        self.table.place(rider)
+        self.hook.place(&mut self.table, rider)
     }
     fn lost(&self) -> Vec<(pushmog::scene::ObjectId, &'static str)> {
         self.hook.lost(&self.table)

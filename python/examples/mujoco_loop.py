@@ -644,8 +644,10 @@ def clear_table(scene: pushmog.Scene, planner: pushmog.Planner, seed: int, noise
             carried, landed = world.grasp(trip.grasp, offset)
         if fusion is not None:
             fusion.record_grasp(trip)
-        # A rider the grasp leaves standing on its row is grasped with the row at the next trip.
+        # A rider the grasp leaves standing on its row is grasped with the row at the next trip;
+        # one that fell off its row carried whole is not offered as a rider again.
         context.record_riders(observed, trip)
+        context.record_carried(trip, carried)
         records.append(Record(trip.grasp.objects, carried, pushes, landed, placed))
         riders = f", riders {placed}" if placed else ""
         log(f"trip {len(records):2d}: {pushes} pushes, {looks} looks, predicted {trip.grasp.objects}{riders}, carried {sorted(carried)}" + (" (landed on an object)" if landed else ""))

@@ -96,6 +96,17 @@ class TripContext:
         row is grasped with the row (``formulations/stacking.md``, "Riders left standing")."""
         self._native.note_riders(scene._native, trip.to_json())
 
+    def record_carried(self, trip: TripPlan, carried: Iterable[int]) -> None:
+        """The grasp of ``trip`` carried ``carried`` (ids): a rider of the trip that stayed behind
+        while its row went to the bin whole fell off a row held in the jaws, and is not offered as
+        a rider again (``formulations/stacking.md``, "Riders that fell off")."""
+        self._native.note_carried(trip.to_json(), [int(i) for i in carried])
+
+    @property
+    def fell_off(self) -> list:
+        """The riders that fell off a row carried whole, not offered as riders again."""
+        return list(self._native.fell_off())
+
     def record_lost(self, lost: Mapping[int, str]) -> None:
         """What the last look could not plan for, object id to reason. Riders recorded with
         :meth:`record_riders` and reported as :data:`RIDER_LEFT` are taken, before anything else,

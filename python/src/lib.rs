@@ -282,6 +282,20 @@ impl TripContext {
         Ok(())
     }
 
+    /// Notes what a trip's (JSON) grasp carried: a rider that stayed behind while its row went to
+    /// the bin whole is not offered as a rider again.
+    fn note_carried(&mut self, trip: &str, carried: Vec<u32>) -> PyResult<()> {
+        let trip: TripPlan = check(json::from_json(trip, "trip"))?;
+        let carried: Vec<_> = carried.into_iter().map(pushmog::scene::ObjectId).collect();
+        self.context.note_carried(&trip, &carried);
+        Ok(())
+    }
+
+    /// The riders that fell off a row carried whole, not offered again.
+    fn fell_off(&self) -> Vec<u32> {
+        self.context.fell_off.iter().map(|id| id.0).collect()
+    }
+
     /// Takes in what a look could not plan for, `(id, reason)` pairs: riders reported left standing
     /// on another object are grasped with their rows.
     fn note_lost(&mut self, lost: Vec<(u32, String)>) {

@@ -392,3 +392,24 @@ def test_a_named_preset_is_its_policy_with_its_settings():
     assert over["run"]["reach_past_edge"] == 0.05 and over["run"]["fuse_looks"] and over["riders"]["enabled"]
     with pytest.raises(pushmog.SettingsError, match="push-mog-time-riders"):
         pushmog.Planner("push-mog-fast")
+
+
+def test_a_rider_that_fell_off_a_row_carried_whole_is_not_offered_again(scene):
+    """``TripContext.record_carried``: a rider left behind by a grasp that carried its whole row is
+    not offered as a rider again; one left behind by a row not carried whole may ride again."""
+    planner = pushmog.Planner("push-mog-opt-riders")
+    for seed in range(8):
+        context = pushmog.TripContext(seed)
+        trip = planner.plan_trip(scene, context)
+        if trip is not None and trip.riders:
+            break
+    else:
+        pytest.fail("no trip with a rider")
+    rider = trip.riders[0]["object"]
+    row = trip.grasp.objects
+    context.record_carried(trip, row[:1])
+    assert context.fell_off == []
+    context.record_carried(trip, row)
+    assert context.fell_off == [rider]
+    again = planner.plan_trip(scene, context)
+    assert all(r["object"] != rider for r in again.riders)

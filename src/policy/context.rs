@@ -42,6 +42,9 @@ pub struct TripContext {
     pub perched: Vec<Perched>,
     /// Every rider put down so far, where and on what ([`TripContext::note_riders`]).
     placed: Vec<Perched>,
+    /// Riders that fell off a row their trip carried whole ([`TripContext::note_carried`]): not
+    /// offered as riders again.
+    pub fell_off: Vec<ObjectId>,
 }
 
 /// A rider still standing on the row it was put down on, its row's grasp not having carried it
@@ -99,6 +102,7 @@ impl TripContext {
             clusterings: ClusterMemory::default(),
             perched: Vec::new(),
             placed: Vec::new(),
+            fell_off: Vec::new(),
         }
     }
 
@@ -155,6 +159,21 @@ impl TripContext {
                         .polygon
                         .transformed(&rider.place.isometry()),
                 });
+            }
+        }
+    }
+
+    /// Notes what `trip`'s grasp carried: a rider it put down that stayed behind though the row
+    /// it rode on went to the bin whole fell off a row held in the jaws, and is not offered as a
+    /// rider again (`formulations/stacking.md`, "Riders that fell off"). A rider left by a row not
+    /// carried whole is the row's failure, not its own, and may ride again.
+    pub fn note_carried(&mut self, trip: &TripPlan, carried: &[ObjectId]) {
+        if !trip.grasp.objects.iter().all(|id| carried.contains(id)) {
+            return;
+        }
+        for rider in &trip.riders {
+            if !carried.contains(&rider.object) && !self.fell_off.contains(&rider.object) {
+                self.fell_off.push(rider.object);
             }
         }
     }

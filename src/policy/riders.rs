@@ -125,7 +125,8 @@ impl Riders {
 impl Policy {
     /// Riders for `trip`, on `predicted`, the table after its pushes; none when riders are off, the
     /// grasp takes fewer than two objects, a rider left standing rests on one of them, or no object
-    /// passes (see the module docs). Jaws where grasps failed before (`context.failed`) are not
+    /// passes (see the module docs). An object that fell off a row carried whole before
+    /// (`context.fell_off`) is not offered. Jaws where grasps failed before (`context.failed`) are not
     /// proposed for a pick.
     pub(super) fn riders_for(
         &self,
@@ -177,6 +178,7 @@ impl Policy {
             .clusters
             .iter()
             .filter(|cluster| cluster.len() == 1 && !busy.contains(&cluster[0]))
+            .filter(|cluster| !context.fell_off.contains(&cluster[0]))
             .filter_map(|cluster| predicted.index_of(cluster[0]))
             .map(|i| {
                 let object = &predicted.objects()[i];

@@ -255,6 +255,7 @@ impl<'a> Run<'a> {
     ) -> Result<()> {
         place_and_grasp(&mut record, executor)?;
         self.context.note_riders(observed, &record.plan);
+        self.context.note_carried(&record.plan, &record.carried);
         self.note_pushes(&record.plan.pushes[noted..]);
         if let Some(fusion) = self.fusion.as_mut() {
             fusion.trip_grasped(&record.plan);
