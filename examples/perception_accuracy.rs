@@ -65,20 +65,6 @@ fn symmetries(shape: &ConvexPolygon) -> Vec<f64> {
     turns
 }
 
-fn erode(labels: &[u32], width: usize, r: usize) -> Vec<u32> {
-    let height = labels.len() / width;
-    (0..labels.len())
-        .map(|i| {
-            let (u, v) = (i % width, i / width);
-            let l = labels[i];
-            let same = (v.saturating_sub(r)..=(v + r).min(height - 1)).all(|y| {
-                (u.saturating_sub(r)..=(u + r).min(width - 1)).all(|x| labels[y * width + x] == l)
-            });
-            if same { l } else { 0 }
-        })
-        .collect()
-}
-
 /// `scene` with objects slid together in pairs: each object not yet paired, in order, draws its
 /// nearest unpaired neighbour along the line between their centroids until they touch.
 fn touching(scene: &pushmog::Scene) -> pushmog::Result<pushmog::Scene> {
@@ -167,7 +153,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let heights: BTreeMap<u32, f64> = (0..scene.len())
             .map(|k| (k as u32 + 1, scene.objects()[k].height))
             .collect();
-        let eroded = erode(&rendered.labels, 1280, 2);
+        let eroded = pushmog::perception::erode_labels(&rendered.labels, 1280, 2);
         let frame = match input {
             "touching" => Frame {
                 depth: Some(Depth::Metres(&depth)),

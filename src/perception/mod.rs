@@ -49,7 +49,7 @@ mod track;
 pub use camera::{Camera, DepthUnits, Extrinsics, Intrinsics, KNOWN_SCALES, MAX_CAMERA_TILT};
 pub use identify::{Identify, Match, best_shape, name_from_set};
 pub use input::{Depth, Frame};
-pub use noise::{DepthNoise, add_noise};
+pub use noise::{DepthNoise, add_noise, erode_labels};
 pub use npy::{Npy, NpyData, read_npy, write_npy_f32, write_npy_u32};
 pub use overlay::overlay_svg;
 pub use perceive::perceive;

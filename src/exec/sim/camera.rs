@@ -12,7 +12,9 @@
 //!   noisy depth, so the planner sees what the camera measures, errors and all.
 //! - **Ids from instance labels.** Each prism's pixels carry its own label, the same at every look:
 //!   a segmentation and tracker that never confuse two objects. The perceived object takes that
-//!   prism's id, name and mass (the name and mass a library lookup would give).
+//!   prism's id, name and mass (the name and mass a library lookup would give). With
+//!   `label_erosion` the labels stop that many pixels short of each outline, as a segmenter's masks
+//!   do; the depth still shows the whole object.
 //! - **What is not planned for** is reported lost with the blob's status: a prism whose blob is
 //!   too small, stacked, not convex, over the workspace's edge and so on, and a prism no pixel shows.
 //!   A rider left standing on another object is reported as the pose model reports it: with one
@@ -29,8 +31,8 @@ use super::prism::Prism;
 use crate::error::Result;
 use crate::exec::RIDER_LEFT;
 use crate::perception::{
-    BlobStatus, Camera, Depth, DepthNoise, Frame, PerceptionSettings, Solid, add_noise, perceive,
-    render_solids,
+    BlobStatus, Camera, Depth, DepthNoise, Frame, PerceptionSettings, Solid, add_noise,
+    erode_labels, perceive, render_solids,
 };
 use crate::scene::{Object, Scene, Workspace};
 
@@ -57,6 +59,16 @@ pub struct SimCamera {
     /// the one it renders from by this much. Default none (left out of written settings).
     #[serde(skip_serializing_if = "CalibrationError::is_zero")]
     pub calibration: CalibrationError,
+    /// Pixels by which each object's instance label falls short of its outline on every side
+    /// (`perception::erode_labels`), as a segmenter's masks do; two touching objects are then
+    /// parted by twice as many unlabelled pixels. Default 0: exact labels (left out of written
+    /// settings). At most 10.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub label_erosion: u32,
+}
+
+fn is_zero(value: &u32) -> bool {
+    *value == 0
 }
 
 /// How far the camera's calibrated pose, which perception uses, lies from the pose it renders
@@ -105,6 +117,7 @@ impl Default for SimCamera {
             noise: DepthNoise::default(),
             perception: PerceptionSettings::default(),
             calibration: CalibrationError::default(),
+            label_erosion: 0,
         }
     }
 }
@@ -157,6 +170,12 @@ impl SimCamera {
                 self.noise.edge_jump,
                 (1e-4, 0.1),
                 "m of depth step",
+            ),
+            (
+                "camera.label_erosion",
+                f64::from(self.label_erosion),
+                (0.0, 10.0),
+                "pixels a segmenter's mask falls short of the outline",
             ),
         ];
         for (field, value, range, why) in checks {
@@ -236,6 +255,7 @@ impl Sim {
                 }
             })
             .collect();
+        let labels = erode_labels(&labels, width, camera.label_erosion as usize);
         let frame = Frame {
             depth: Some(Depth::Metres(&depth)),
             labels: Some(&labels),
