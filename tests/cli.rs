@@ -556,6 +556,8 @@ fn a_named_preset_plans_as_its_policy_with_its_settings() {
     pushmog(&[
         "scene",
         "generate",
+        "--objects",
+        "12",
         "--seed",
         "4",
         "-o",

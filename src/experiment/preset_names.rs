@@ -6,21 +6,13 @@
 //! preset name has the header, and the `config_hash`, of the same configuration written out in
 //! full, and each resumes the other.
 
+use super::settings_file::{policy_entries, policy_entries_mut};
 use crate::error::{Error, Result};
 use crate::policy::preset::Preset;
 
 /// Whether any policy entry of the parsed document names a preset.
 pub(super) fn any(document: &toml::Table) -> bool {
-    entries(document).any(|entry| preset_of(entry).is_some())
-}
-
-fn entries(document: &toml::Table) -> impl Iterator<Item = &toml::Table> {
-    document
-        .get("policies")
-        .and_then(toml::Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(toml::Value::as_table)
+    policy_entries(document).any(|entry| preset_of(entry).is_some())
 }
 
 fn preset_of(entry: &toml::Table) -> Option<&'static Preset> {
@@ -36,16 +28,7 @@ fn preset_of(entry: &toml::Table) -> Option<&'static Preset> {
 /// # Errors
 /// [`Error::InvalidField`] naming the entry when its `settings` are not a table or do not fit.
 pub(super) fn resolve(document: &mut toml::Table, name: &str) -> Result<()> {
-    let Some(policies) = document
-        .get_mut("policies")
-        .and_then(toml::Value::as_array_mut)
-    else {
-        return Ok(());
-    };
-    for (index, entry) in policies.iter_mut().enumerate() {
-        let Some(entry) = entry.as_table_mut() else {
-            continue;
-        };
+    for (index, entry) in policy_entries_mut(document) {
         let Some(preset) = preset_of(entry) else {
             continue;
         };

@@ -18,13 +18,30 @@ pub(super) const KEY: &str = "settings_file";
 
 /// Whether any policy entry of the parsed document names a settings file.
 pub(super) fn any(document: &toml::Table) -> bool {
+    policy_entries(document).any(|entry| entry.contains_key(KEY))
+}
+
+/// The policy entries of a parsed configuration that are tables.
+pub(super) fn policy_entries(document: &toml::Table) -> impl Iterator<Item = &toml::Table> {
     document
         .get("policies")
         .and_then(toml::Value::as_array)
         .into_iter()
         .flatten()
         .filter_map(toml::Value::as_table)
-        .any(|entry| entry.contains_key(KEY))
+}
+
+/// The policy entries of a parsed configuration that are tables, each with its position.
+pub(super) fn policy_entries_mut(
+    document: &mut toml::Table,
+) -> impl Iterator<Item = (usize, &mut toml::Table)> {
+    document
+        .get_mut("policies")
+        .and_then(toml::Value::as_array_mut)
+        .into_iter()
+        .flatten()
+        .enumerate()
+        .filter_map(|(index, entry)| entry.as_table_mut().map(|entry| (index, entry)))
 }
 
 /// Refuses a configuration whose policies (their `settings_file`s, in order) still name a settings
@@ -59,16 +76,7 @@ pub(super) fn refuse_unread<'a>(
 /// not a string or its `settings` not a table, and naming the file when it is not JSON policy
 /// settings.
 pub(super) fn resolve(document: &mut toml::Table, base: &Path, name: &str) -> Result<()> {
-    let Some(policies) = document
-        .get_mut("policies")
-        .and_then(toml::Value::as_array_mut)
-    else {
-        return Ok(());
-    };
-    for (index, entry) in policies.iter_mut().enumerate() {
-        let Some(entry) = entry.as_table_mut() else {
-            continue;
-        };
+    for (index, entry) in policy_entries_mut(document) {
         let Some(file) = entry.remove(KEY) else {
             continue;
         };
