@@ -87,15 +87,6 @@ impl Object {
         self.pose.isometry() * self.polygon.centroid()
     }
 
-    /// Validates one object's JSON form by itself, as a scene's `objects[index]` would be (outline
-    /// convex and within bounds, height and mass positive); no workspace or neighbour is checked.
-    ///
-    /// # Errors
-    /// [`crate::Error::InvalidObject`] naming the field.
-    pub fn from_spec(spec: ObjectSpec, index: usize) -> crate::Result<Self> {
-        super::validation::object_from_spec(index, spec)
-    }
-
     /// The raw JSON form.
     pub fn to_spec(&self) -> ObjectSpec {
         ObjectSpec {

@@ -50,6 +50,18 @@ pub const MAX_YAW: f64 = 100.0;
 /// the perception noise (2 mm) and the pads' compliance; such a value is almost always a unit mistake.
 pub const MIN_WIDTH: f64 = 0.001;
 
+impl Object {
+    /// Validates one object's JSON form by itself, as a scene's `objects[index]` would be (outline
+    /// convex and within bounds, height and mass positive); no workspace or neighbour is checked.
+    /// (Written here, beside the rules, so that `object.rs` does not depend on them.)
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidObject`] naming the field.
+    pub fn from_spec(spec: ObjectSpec, index: usize) -> Result<Self> {
+        object_from_spec(index, spec)
+    }
+}
+
 /// Builds a validated object from its JSON form; `index` is its position in the `objects` list.
 ///
 /// Outlines of more than [`SIMPLIFY_ABOVE`] vertices are simplified to within
