@@ -18,6 +18,9 @@
 //! `PUSHMOG_FIRST_SEED` moves the scenes' seeds from `1..=scenes` to start there.
 //! `PUSHMOG_WORST=1` also prints each object missed, and each found with IoU under 0.94 or a d*
 //! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame).
+//! `PUSHMOG_DUMP=<folder>` writes each look there as files `pushmog perceive` reads
+//! (`camera.toml`, `scene-<seed>.json`, `depth-<seed>.npy`, `labels-<seed>.npy`), so that a case
+//! can be looked at again, with `--overlay`, from the command line.
 
 use std::collections::BTreeMap;
 
@@ -175,6 +178,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ..Frame::default()
             },
         };
+        if let Ok(folder) = std::env::var("PUSHMOG_DUMP") {
+            let folder = std::path::Path::new(&folder);
+            std::fs::create_dir_all(folder)?;
+            std::fs::write(folder.join("camera.toml"), toml::to_string(&camera)?)?;
+            std::fs::write(
+                folder.join(format!("scene-{seed}.json")),
+                serde_json::to_string_pretty(&scene.to_spec())?,
+            )?;
+            let metres: Vec<f32> = depth.iter().map(|&z| z as f32).collect();
+            let rows = depth.len() / 1280;
+            std::fs::write(
+                folder.join(format!("depth-{seed}.npy")),
+                pushmog::perception::write_npy_f32(&metres, rows, 1280),
+            )?;
+            std::fs::write(
+                folder.join(format!("labels-{seed}.npy")),
+                pushmog::perception::write_npy_u32(&rendered.labels, rows, 1280),
+            )?;
+        }
         let clock = std::time::Instant::now();
         let mut seen = perceive(
             &frame,
@@ -275,9 +297,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         .join(" ")
                 };
                 println!(
-                    "seed {seed} object {k}: iou {:.4} d* {:+.2} mm\n  truth {}\n  seen  {}",
+                    "seed {seed} object {k}: iou {:.4} d* {:+.2} mm, height {:.1} mm seen {:.1}\n  truth {}\n  seen  {}",
                     iou,
                     d * 1e3,
+                    scene.objects()[k].height * 1e3,
+                    object.height * 1e3,
                     mm(truth),
                     mm(&print)
                 );

@@ -74,6 +74,9 @@ const TOP_BAND: f64 = 0.003;
 ///   of their own, and cast at two heights its direction on the table would be anything. It is the
 ///   image of a vertical edge, whose corner the sides next to it give as well, or a chord from where
 ///   the wall shows to where the neighbour hides it, whose side the sides next to it continue.
+/// - So does a shorter side whose band holds fewer than `MIN_PIXELS` pixels, neighbour or not
+///   (labels with depth only): one pixel low on the wall, or a flying one, would cast it at the
+///   cut, and where a neighbour hides the wall beside it, that cuts the corner off.
 pub fn end_lifts(
     corners: &[Point2<f64>],
     lifts: &[f64],
@@ -91,6 +94,12 @@ pub fn end_lifts(
                 return Some([lift, lift]);
             };
             let (a, b) = (corners[k], corners[(k + 1) % n]);
+            // Too few pixels of the blob's own say where a short side stands: one flying pixel
+            // or one of the wall, where a neighbour hides the rest, would cast it low and cut the
+            // corner off. The sides next to it bound that corner.
+            if (b - a).norm() < MIN_LENGTH && bands[k].len() < MIN_PIXELS {
+                return None;
+            }
             let hiding = |part| hiding_top(a, b, part, heights, width, neighbours);
             if (b - a).norm() < MIN_LENGTH {
                 return hiding((0.0, 1.0)).is_none().then_some([lift, lift]);
@@ -309,5 +318,36 @@ mod tests {
             Some(&neighbours),
         );
         assert_eq!(ends[0], None);
+    }
+
+    #[test]
+    fn a_short_side_with_too_few_pixels_of_its_own_bounds_nothing_where_labels_are_given() {
+        // No neighbour outside: the table. The 5-pixel side's band holds one pixel, low on the
+        // wall (a flying pixel, or the last of a wall a neighbour hides further on).
+        let (heights, owner, _) = halves(0.02, 0..0, 0..0);
+        let tops = [Some(0.02), None];
+        let neighbours = Neighbours {
+            owner: &owner,
+            tops: &tops,
+            index: 0,
+        };
+        let short = [Point2::new(9.5, 1.0), Point2::new(9.5, 6.0)];
+        let lone: Vec<Band> = vec![vec![(0.5, 0.011)], Vec::new()];
+        let cast = |bands: &[Band], neighbours: Option<&Neighbours>| {
+            end_lifts(
+                &short,
+                &[0.011; 2],
+                bands,
+                (0.01, 0.02),
+                &heights,
+                20,
+                neighbours,
+            )[0]
+        };
+        assert_eq!(cast(&lone, Some(&neighbours)), None);
+        // Three pixels of its own say where it stands; without labels nothing changes.
+        let three: Vec<Band> = vec![vec![(0.2, 0.011), (0.5, 0.011), (0.8, 0.012)], Vec::new()];
+        assert_eq!(cast(&three, Some(&neighbours)), Some([0.011, 0.011]));
+        assert_eq!(cast(&lone, None), Some([0.011, 0.011]));
     }
 }
