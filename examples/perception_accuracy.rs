@@ -6,7 +6,9 @@
 //! where `input` is `depth` (the default), `labels` (exact labels and heights, no depth) or `eroded`
 //! (labels eroded by 2 pixels, with the depth), `touching` (each object's nearest neighbour slid
 //! against it, as a push leaves a pair; exact labels with the depth) or `bars` (the thin-bar set of
-//! `experiments/thin-bars.json`); `touching-depth` is `touching` without the labels.
+//! `experiments/thin-bars.json`); `touching-depth` is `touching` without the labels, and
+//! `touching-spill` is `touching` with each label spilled 2 pixels onto the neighbours it touches
+//! (the lower id's mask takes in the edge of the higher's).
 //! `PUSHMOG_FLYING`, `PUSHMOG_DROPPED` and `PUSHMOG_SIGMA` replace the noise's parameters;
 //! `PUSHMOG_PRIOR=1` gives the true scene as the prior, and the pose's yaw error is measured too.
 //! `PUSHMOG_LIBRARY=1` names the objects from the scenes' object set instead (no prior): how many
@@ -17,7 +19,8 @@
 //! `PUSHMOG_OBJECT_SET` names an object-set file (JSON) whose shapes the scenes are made of instead.
 //! `PUSHMOG_FIRST_SEED` moves the scenes' seeds from `1..=scenes` to start there.
 //! `PUSHMOG_WORST=1` also prints each object missed, and each found with IoU under 0.94 or a d*
-//! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame).
+//! error over 2.5 mm, with its true and perceived outlines (millimetres, table frame). The row
+//! `iou, looks that plan` holds the objects of the looks whose `Perception::scene` gives a scene.
 //! `PUSHMOG_DUMP=<folder>` writes each look there as files `pushmog perceive` reads
 //! (`camera.toml`, `scene-<seed>.json`, `depth-<seed>.npy`, `labels-<seed>.npy`), so that a case
 //! can be looked at again, with `--overlay`, from the command line.
@@ -105,6 +108,28 @@ fn touching(scene: &pushmog::Scene) -> pushmog::Result<pushmog::Scene> {
     scene.with_objects(objects)
 }
 
+/// `labels` with each label spilled `r` pixels onto the neighbours it touches, as a segmenter's
+/// mask that takes in the edge of the object beside it: a labelled pixel within the `(2r + 1)²`
+/// square of a lower label takes the lowest such label. The table stays unlabelled (with depth, a
+/// spill onto the table is cut away with it).
+fn spill(labels: &[u32], width: usize, r: usize) -> Vec<u32> {
+    let height = labels.len() / width;
+    (0..labels.len())
+        .map(|i| {
+            let (u, v) = (i % width, i / width);
+            let own = labels[i];
+            if own == 0 {
+                return 0;
+            }
+            (v.saturating_sub(r)..=(v + r).min(height - 1))
+                .flat_map(|y| (u.saturating_sub(r)..=(u + r).min(width - 1)).map(move |x| (x, y)))
+                .map(|(x, y)| labels[y * width + x])
+                .filter(|&l| l != 0)
+                .fold(own, u32::min)
+        })
+        .collect()
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let scenes: u64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(10);
@@ -157,6 +182,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|k| (k as u32 + 1, scene.objects()[k].height))
             .collect();
         let eroded = pushmog::perception::erode_labels(&rendered.labels, 1280, 2);
+        let spilled = spill(&rendered.labels, 1280, 2);
         let frame = match input {
             "touching" => Frame {
                 depth: Some(Depth::Metres(&depth)),
@@ -166,6 +192,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "labels" => Frame {
                 labels: Some(&rendered.labels),
                 heights: Some(&heights),
+                ..Frame::default()
+            },
+            "touching-spill" => Frame {
+                depth: Some(Depth::Metres(&depth)),
+                labels: Some(&spilled),
                 ..Frame::default()
             },
             "eroded" => Frame {
@@ -229,6 +260,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .to_string();
             *statuses.entry(s).or_default() += 1;
         }
+        let plans = seen.scene().is_ok();
         for k in 0..scene.len() {
             let truth = scene.world_polygon(k);
             let c = truth.centroid();
@@ -249,6 +281,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let print = object.world_polygon();
             let iou = intersection_over_union(truth, &print);
+            if plans {
+                rows.entry("iou, looks that plan").or_default().push(iou);
+            }
             rows.entry("iou").or_default().push(iou);
             rows.entry("centroid mm")
                 .or_default()
