@@ -23,7 +23,10 @@
 //! `iou, looks that plan` holds the objects of the looks whose `Perception::scene` gives a scene.
 //! `PUSHMOG_DUMP=<folder>` writes each look there as files `pushmog perceive` reads
 //! (`camera.toml`, `scene-<seed>.json`, `depth-<seed>.npy`, `labels-<seed>.npy`), so that a case
-//! can be looked at again, with `--overlay`, from the command line.
+//! can be looked at again from the command line: `pushmog perceive --camera camera.toml --depth
+//! depth-<seed>.npy --labels labels-<seed>.npy --state scene-<seed>.json --overlay o.svg` (the
+//! scene file gives the workspace; its objects are the truth). The labels written are the exact
+//! ones, whatever the input.
 
 use std::collections::BTreeMap;
 
@@ -217,11 +220,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 folder.join(format!("scene-{seed}.json")),
                 serde_json::to_string_pretty(&scene.to_spec())?,
             )?;
-            let metres: Vec<f32> = depth.iter().map(|&z| z as f32).collect();
             let rows = depth.len() / 1280;
             std::fs::write(
                 folder.join(format!("depth-{seed}.npy")),
-                pushmog::perception::write_npy_f32(&metres, rows, 1280),
+                pushmog::perception::write_npy_f32(&depth, rows, 1280),
             )?;
             std::fs::write(
                 folder.join(format!("labels-{seed}.npy")),
