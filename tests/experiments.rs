@@ -740,3 +740,20 @@ fn a_preset_name_is_the_same_configuration_as_its_settings_written_out() {
     let error = ExperimentConfig::from_toml(&wrong, "wrong").unwrap_err();
     assert!(error.to_string().contains("run"), "{error}");
 }
+
+/// The README's main job (`cargo run --release -- experiment experiments/paper.toml`) resumes the
+/// committed log: its header must be of the configuration as the code reads it now, or the command
+/// refuses the log. A new setting with a default changes the hash, so a change that adds one must
+/// run the main job again and commit its log.
+#[test]
+fn the_main_jobs_committed_log_is_of_its_configuration_as_read_now() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config = ExperimentConfig::read(&root.join("experiments/paper.toml")).unwrap();
+    let log = read_log(&root.join("experiments/results/paper.jsonl")).unwrap();
+    assert_eq!(
+        log.header.config_hash,
+        pushmog::experiment::log::config_hash(&config),
+        "experiments/results/paper.jsonl was written by another configuration: run the main job again"
+    );
+    assert_eq!(log.rows.len(), log.header.runs, "the log is not complete");
+}
