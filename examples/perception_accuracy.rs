@@ -184,8 +184,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let heights: BTreeMap<u32, f64> = (0..scene.len())
             .map(|k| (k as u32 + 1, scene.objects()[k].height))
             .collect();
-        let eroded = pushmog::perception::erode_labels(&rendered.labels, 1280, 2);
-        let spilled = spill(&rendered.labels, 1280, 2);
+        // Labels edited as a segmenter's would be, made only for the inputs that use them.
+        let edited = match input {
+            "eroded" => Some(pushmog::perception::erode_labels(&rendered.labels, 1280, 2)),
+            "touching-spill" => Some(spill(&rendered.labels, 1280, 2)),
+            _ => None,
+        };
         let frame = match input {
             "touching" => Frame {
                 depth: Some(Depth::Metres(&depth)),
@@ -197,14 +201,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 heights: Some(&heights),
                 ..Frame::default()
             },
-            "touching-spill" => Frame {
+            "eroded" | "touching-spill" => Frame {
                 depth: Some(Depth::Metres(&depth)),
-                labels: Some(&spilled),
-                ..Frame::default()
-            },
-            "eroded" => Frame {
-                depth: Some(Depth::Metres(&depth)),
-                labels: Some(&eroded),
+                labels: edited.as_deref(),
                 ..Frame::default()
             },
             _ => Frame {

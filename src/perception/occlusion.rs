@@ -94,15 +94,13 @@ pub fn end_lifts(
                 return Some([lift, lift]);
             };
             let (a, b) = (corners[k], corners[(k + 1) % n]);
-            // Too few pixels of the blob's own say where a short side stands: one flying pixel
-            // or one of the wall, where a neighbour hides the rest, would cast it low and cut the
-            // corner off. The sides next to it bound that corner.
-            if (b - a).norm() < MIN_LENGTH && bands[k].len() < MIN_PIXELS {
-                return None;
-            }
             let hiding = |part| hiding_top(a, b, part, heights, width, neighbours);
             if (b - a).norm() < MIN_LENGTH {
-                return hiding((0.0, 1.0)).is_none().then_some([lift, lift]);
+                // Too few pixels of the blob's own say where a short side stands: one flying
+                // pixel or one of the wall, where a neighbour hides the rest, would cast it low
+                // and cut the corner off. The sides next to it bound that corner.
+                let few = bands[k].len() < MIN_PIXELS;
+                return (!few && hiding((0.0, 1.0)).is_none()).then_some([lift, lift]);
             }
             let at = |from: f64, to: f64| {
                 let Some(hiding) = hiding((from, to)) else {
