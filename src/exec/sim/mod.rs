@@ -35,6 +35,8 @@ mod observe;
 mod place;
 mod prism;
 #[cfg(test)]
+mod rest_check;
+#[cfg(test)]
 mod ride_check;
 mod rollout;
 mod settings;
@@ -158,6 +160,7 @@ impl Sim {
             finger_mass: self.settings.finger_mass,
             finger_height: self.settings.finger_height,
             time_step: self.settings.time_step,
+            rest_wait: self.settings.rest_wait,
             contact_frequency: self.settings.contact_frequency,
             fingers: self.settings.fingers,
             linkage_stiffness: self.settings.linkage_stiffness,

@@ -16,7 +16,7 @@ use crate::stack::{Row, StackSettings, place_rider};
 /// Density of the test objects, kg/m³ (the grasp model's default).
 const DENSITY: f64 = 1000.0;
 
-fn square(half: f64) -> ConvexPolygon {
+pub(super) fn square(half: f64) -> ConvexPolygon {
     ConvexPolygon::rectangle(
         &nalgebra::Point2::origin(),
         &nalgebra::Vector2::x(),
@@ -25,7 +25,13 @@ fn square(half: f64) -> ConvexPolygon {
     )
 }
 
-fn prism(id: u32, outline: ConvexPolygon, at: (f64, f64, f64), yaw: f64, height: f64) -> Prism {
+pub(super) fn prism(
+    id: u32,
+    outline: ConvexPolygon,
+    at: (f64, f64, f64),
+    yaw: f64,
+    height: f64,
+) -> Prism {
     Prism {
         id: ObjectId(id),
         name: None,

@@ -82,6 +82,14 @@ pub struct SimSettings {
     pub carry_acceleration: f64,
     /// Time allowed for things to come to rest after closing and after lifting, seconds. Default 0.3.
     pub settle: f64,
+    /// Longest time a stage runs on after its action, the arm still, until every object on it is at
+    /// rest (slower than 5 cm/s and 2 rad/s: no longer falling or sliding), before the poses are
+    /// kept, seconds. Default 2.0. Objects beyond the next actions' `reach` keep the poses kept, so
+    /// one still falling would otherwise stay frozen mid-fall (`formulations/grasping.md`, "Objects
+    /// still moving when an action ends"). The cell's next look comes later than this after a
+    /// trip: the run to the bin and back alone is about 2.8 s of arm motion in the time model
+    /// (`formulations/picks-per-hour.md`). 0 keeps the poses as the action ends, as before.
+    pub rest_wait: f64,
     /// Simulation time step, seconds. Default 0.002 (500 Hz; objects move under 0.2 mm per step).
     pub time_step: f64,
     /// Natural frequency of rapier's soft contact constraints, hertz. Default 1000. A contact under
@@ -131,6 +139,7 @@ impl Default for SimSettings {
             carry_speed: 0.25,
             carry_acceleration: 1.2,
             settle: 0.3,
+            rest_wait: 2.0,
             time_step: 0.002,
             contact_frequency: 1000.0,
             reach: 0.12,
@@ -305,6 +314,12 @@ impl SimSettings {
                 self.settle,
                 (0.0, 5.0),
                 "s of simulated waiting after a lift",
+            ),
+            (
+                "rest_wait",
+                self.rest_wait,
+                (0.0, 10.0),
+                "s of simulated waiting for objects still moving after an action",
             ),
             (
                 "time_step",

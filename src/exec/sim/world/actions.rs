@@ -9,6 +9,14 @@ use crate::exec::sim::prism::Prism;
 use crate::exec::sim::settings::FingerDrive;
 use crate::scene::Pose as PlanarPose;
 
+/// Objects slower than this count as at rest, m/s. A fall or a slide is faster; rapier's contacts
+/// keep a rider on a row, and the row under it, rocking at about 1.3 cm/s for seconds (traced in
+/// `formulations/grasping.md`, "Objects still moving when an action ends"), which is not waited
+/// out.
+const REST_SPEED: f64 = 0.05;
+/// And turning slower than this, rad/s (that rocking turns at up to about 1.7 rad/s).
+const REST_SPIN: f64 = 2.0;
+
 impl Stage {
     /// Lets the world run with the palm still, seconds.
     pub fn wait(&mut self, seconds: f64) {
@@ -206,8 +214,29 @@ impl Stage {
             .collect()
     }
 
-    /// Writes the simulated poses back into `prisms`.
-    pub fn write_back(&self, prisms: &mut [Prism]) {
+    /// Whether every object on the stage is at rest: slower than [`REST_SPEED`] and turning slower
+    /// than [`REST_SPIN`]. Read after an action's last wait (50 ms or more), an object in the air has
+    /// been falling for longer than the 5 ms it takes to pass `REST_SPEED`.
+    fn at_rest(&self) -> bool {
+        self.members.iter().all(|&(_, handle)| {
+            self.world.bodies.get(handle).is_none_or(|body| {
+                body.linvel().length() <= REST_SPEED && body.angvel().length() <= REST_SPIN
+            })
+        })
+    }
+
+    /// Lets the world run on with the palm still until every object is at rest, or `rest_wait`
+    /// has passed, then writes the simulated poses back into `prisms`. An object still falling
+    /// when its poses are kept would stay mid-fall wherever no later action reaches it.
+    pub fn write_back(&mut self, prisms: &mut [Prism]) {
+        let steps = (self.rest_wait / self.time_step).ceil() as usize;
+        for _ in 0..steps {
+            if self.at_rest() {
+                break;
+            }
+            self.move_palm_to(self.palm_translation);
+            self.step();
+        }
         for &(index, handle) in &self.members {
             if let Some(body) = self.world.bodies.get(handle) {
                 prisms[index].translation = body.translation();

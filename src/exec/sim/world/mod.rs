@@ -88,6 +88,8 @@ pub(super) struct Stage {
     palm_translation: Vector,
     palm_rotation: Rotation,
     time_step: f64,
+    /// Longest run-on before the poses are read back, seconds ([`Stage::write_back`]).
+    rest_wait: f64,
     /// Half the finger's height: the palm sits this far above the fingertips, metres.
     half_finger: f64,
     drive: Drive,
@@ -114,6 +116,8 @@ pub(super) struct StageSettings {
     pub finger_mass: f64,
     pub finger_height: f64,
     pub time_step: f64,
+    /// Longest run-on after the action for the objects to come to rest, seconds.
+    pub rest_wait: f64,
     pub contact_frequency: f64,
     pub fingers: FingerDrive,
     pub linkage_stiffness: f64,
@@ -171,6 +175,7 @@ impl Stage {
             palm_translation,
             palm_rotation,
             time_step: settings.time_step,
+            rest_wait: settings.rest_wait,
             half_finger: settings.finger_height / 2.0,
             drive: Drive {
                 kind: settings.fingers,
