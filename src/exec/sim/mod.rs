@@ -16,6 +16,10 @@
 //!   by `lift`, left to settle; with riders aboard, carried sideways by `carry` at
 //!   `carry_acceleration` and left to settle again; the objects lifted clear of the table are
 //!   carried to the bin. Anything dropped stays where physics leaves it.
+//! - **Coming to rest**: after every action the stage runs on, the arm still, until nothing on it
+//!   moves faster than 5 cm/s or turns faster than 2 rad/s (at most `rest_wait`), so that what
+//!   falls lands before its pose is kept (`formulations/grasping.md`, "Objects still moving when an
+//!   action ends").
 //! - **Place** (riders, `formulations/stacking.md`): the rider picked with its single-object grasp,
 //!   lifted clear, carried and turned over the row, put down on its top, let go.
 //! - **Perception**: an observation is the true planar poses plus Gaussian noise (seeded). An object
