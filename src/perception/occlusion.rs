@@ -70,6 +70,8 @@ const TOP_BAND: f64 = 0.003;
 ///   they lie) say where its silhouette stands: at its own top, when their median is within
 ///   `TOP_BAND` of it, the end is cast at the higher of `top` and `h_B` (the blob's top edge, or the
 ///   neighbour's hiding it); on its wall otherwise, at their tenth percentile within `[cut, top]`.
+///   An end with fewer than `MIN_PIXELS` such pixels keeps `lifts[k]`, unless every one of them
+///   stands at the top: then it is a top edge all the same.
 /// - A shorter side with a neighbour's top outside it bounds nothing: its ends have too few pixels
 ///   of their own, and cast at two heights its direction on the table would be anything. It is the
 ///   image of a vertical edge, whose corner the sides next to it give as well, or a chord from where
@@ -112,7 +114,10 @@ pub fn end_lifts(
                     .filter(|(along, _)| (from..=to).contains(along))
                     .map(|&(_, h)| h)
                     .collect();
-                if own.len() < MIN_PIXELS {
+                // Too few to judge a wall by, but a few that all stand at the top still say the
+                // silhouette there is a top edge.
+                let at_top = !own.is_empty() && own[0] >= top - TOP_BAND;
+                if own.len() < MIN_PIXELS && !at_top {
                     return lift;
                 }
                 if own[own.len() / 2] >= top - TOP_BAND {
@@ -347,5 +352,36 @@ mod tests {
         let three: Vec<Band> = vec![vec![(0.2, 0.011), (0.5, 0.011), (0.8, 0.012)], Vec::new()];
         assert_eq!(cast(&three, Some(&neighbours)), Some([0.011, 0.011]));
         assert_eq!(cast(&lone, None), Some([0.011, 0.011]));
+    }
+
+    #[test]
+    fn an_end_along_a_neighbour_with_two_pixels_of_its_own_both_at_the_top_is_a_top_edge() {
+        // The neighbour, level with the blob, lies outside the whole side; the blob shows its
+        // wall at the first end (three pixels low on it) and has two pixels at its top at the
+        // second, a sharp corner's tip beside the neighbour.
+        let (heights, owner, _) = halves(0.02, 0..20, 0..0);
+        let tops = [Some(0.02), Some(0.02)];
+        let neighbours = Neighbours {
+            owner: &owner,
+            tops: &tops,
+            index: 0,
+        };
+        let cast = |second: [(f64, f64); 2]| {
+            let mut band: Band = vec![(0.05, 0.011), (0.1, 0.012), (0.2, 0.011)];
+            band.extend(second);
+            band.sort_by(|x, y| x.1.total_cmp(&y.1));
+            end_lifts(
+                &SIDE,
+                &[0.011; 2],
+                &[band, Vec::new()],
+                (0.01, 0.02),
+                &heights,
+                20,
+                Some(&neighbours),
+            )[0]
+        };
+        assert_eq!(cast([(0.9, 0.0195), (0.95, 0.02)]), Some([0.011, 0.02]));
+        // One of the two on the wall: too few to say, and the side keeps its height.
+        assert_eq!(cast([(0.9, 0.012), (0.95, 0.02)]), Some([0.011, 0.011]));
     }
 }
