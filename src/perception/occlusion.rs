@@ -231,6 +231,32 @@ mod tests {
 
     const SIDE: [Point2<f64>; 2] = [Point2::new(9.5, 1.0), Point2::new(9.5, 19.0)];
 
+    /// The ends of the first side of `side` on a [`halves`] image, every side lifted to `lift`,
+    /// the blob's cut and top at 10 and 20 mm; with labels (`owner`, and each blob's top) or
+    /// without.
+    fn first_ends(
+        side: &[Point2<f64>],
+        lift: f64,
+        bands: &[Band],
+        heights: &[f64],
+        labels: Option<(&[u32], &[Option<f64>])>,
+    ) -> Option<[f64; 2]> {
+        let neighbours = labels.map(|(owner, tops)| Neighbours {
+            owner,
+            tops,
+            index: 0,
+        });
+        end_lifts(
+            side,
+            &vec![lift; side.len()],
+            bands,
+            (0.01, 0.02),
+            heights,
+            20,
+            neighbours.as_ref(),
+        )[0]
+    }
+
     #[test]
     fn a_chord_along_a_neighbour_stands_at_the_top_where_it_hides_the_wall_and_at_the_wall_where_it_shows()
      {
@@ -239,25 +265,11 @@ mod tests {
         // outside along the whole side; the blob's wall shows at the second end only.
         let (heights, owner, bands) = halves(0.02, 0..20, 13..20);
         let tops = [Some(0.02), Some(0.02)];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
-        let lifts = [0.011, 0.011];
-        let ends = end_lifts(
-            &SIDE,
-            &lifts,
-            &bands,
-            (0.01, 0.02),
-            &heights,
-            20,
-            Some(&neighbours),
-        );
-        assert_eq!(ends[0], Some([0.02, 0.011]));
+        let ends = first_ends(&SIDE, 0.011, &bands, &heights, Some((&owner, &tops)));
+        assert_eq!(ends, Some([0.02, 0.011]));
         // Without neighbours nothing changes.
-        let alone = end_lifts(&SIDE, &lifts, &bands, (0.01, 0.02), &heights, 20, None);
-        assert_eq!(alone[0], Some([0.011, 0.011]));
+        let alone = first_ends(&SIDE, 0.011, &bands, &heights, None);
+        assert_eq!(alone, Some([0.011, 0.011]));
     }
 
     #[test]
@@ -266,21 +278,8 @@ mod tests {
         // top there.
         let (heights, owner, bands) = halves(0.03, 0..7, 0..0);
         let tops = [Some(0.02), Some(0.03)];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
-        let ends = end_lifts(
-            &SIDE,
-            &[0.02; 2],
-            &bands,
-            (0.01, 0.02),
-            &heights,
-            20,
-            Some(&neighbours),
-        );
-        assert_eq!(ends[0], Some([0.03, 0.02]));
+        let ends = first_ends(&SIDE, 0.02, &bands, &heights, Some((&owner, &tops)));
+        assert_eq!(ends, Some([0.03, 0.02]));
     }
 
     #[test]
@@ -288,39 +287,13 @@ mod tests {
         // The neighbour's pixels outside stand 10 mm under its top: its wall, not its top.
         let (heights, owner, bands) = halves(0.03, 0..20, 13..20);
         let tops = [Some(0.02), Some(0.04)];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
-        let ends = end_lifts(
-            &SIDE,
-            &[0.011; 2],
-            &bands,
-            (0.01, 0.02),
-            &heights,
-            20,
-            Some(&neighbours),
-        );
-        assert_eq!(ends[0], Some([0.011, 0.011]));
+        let ends = first_ends(&SIDE, 0.011, &bands, &heights, Some((&owner, &tops)));
+        assert_eq!(ends, Some([0.011, 0.011]));
         // A side of 5 pixels with a neighbour's top outside it bounds nothing.
         let tops = [Some(0.02), Some(0.03)];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
         let short = [Point2::new(9.5, 1.0), Point2::new(9.5, 6.0)];
-        let ends = end_lifts(
-            &short,
-            &[0.011; 2],
-            &bands,
-            (0.01, 0.02),
-            &heights,
-            20,
-            Some(&neighbours),
-        );
-        assert_eq!(ends[0], None);
+        let ends = first_ends(&short, 0.011, &bands, &heights, Some((&owner, &tops)));
+        assert_eq!(ends, None);
     }
 
     #[test]
@@ -329,29 +302,20 @@ mod tests {
         // wall (a flying pixel, or the last of a wall a neighbour hides further on).
         let (heights, owner, _) = halves(0.02, 0..0, 0..0);
         let tops = [Some(0.02), None];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
+        let labels = Some((owner.as_slice(), tops.as_slice()));
         let short = [Point2::new(9.5, 1.0), Point2::new(9.5, 6.0)];
         let lone: Vec<Band> = vec![vec![(0.5, 0.011)], Vec::new()];
-        let cast = |bands: &[Band], neighbours: Option<&Neighbours>| {
-            end_lifts(
-                &short,
-                &[0.011; 2],
-                bands,
-                (0.01, 0.02),
-                &heights,
-                20,
-                neighbours,
-            )[0]
-        };
-        assert_eq!(cast(&lone, Some(&neighbours)), None);
+        assert_eq!(first_ends(&short, 0.011, &lone, &heights, labels), None);
         // Three pixels of its own say where it stands; without labels nothing changes.
         let three: Vec<Band> = vec![vec![(0.2, 0.011), (0.5, 0.011), (0.8, 0.012)], Vec::new()];
-        assert_eq!(cast(&three, Some(&neighbours)), Some([0.011, 0.011]));
-        assert_eq!(cast(&lone, None), Some([0.011, 0.011]));
+        assert_eq!(
+            first_ends(&short, 0.011, &three, &heights, labels),
+            Some([0.011, 0.011])
+        );
+        assert_eq!(
+            first_ends(&short, 0.011, &lone, &heights, None),
+            Some([0.011, 0.011])
+        );
     }
 
     #[test]
@@ -361,24 +325,12 @@ mod tests {
         // second, a sharp corner's tip beside the neighbour.
         let (heights, owner, _) = halves(0.02, 0..20, 0..0);
         let tops = [Some(0.02), Some(0.02)];
-        let neighbours = Neighbours {
-            owner: &owner,
-            tops: &tops,
-            index: 0,
-        };
         let cast = |second: [(f64, f64); 2]| {
             let mut band: Band = vec![(0.05, 0.011), (0.1, 0.012), (0.2, 0.011)];
             band.extend(second);
             band.sort_by(|x, y| x.1.total_cmp(&y.1));
-            end_lifts(
-                &SIDE,
-                &[0.011; 2],
-                &[band, Vec::new()],
-                (0.01, 0.02),
-                &heights,
-                20,
-                Some(&neighbours),
-            )[0]
+            let bands = [band, Vec::new()];
+            first_ends(&SIDE, 0.011, &bands, &heights, Some((&owner, &tops)))
         };
         assert_eq!(cast([(0.9, 0.0195), (0.95, 0.02)]), Some([0.011, 0.02]));
         // One of the two on the wall: too few to say, and the side keeps its height.
