@@ -3,11 +3,11 @@
 
 use std::collections::BTreeMap;
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::{Point2, Point3, Vector2, Vector3};
 use pushmog::geometry::{ConvexPolygon, intersection_over_union};
 use pushmog::perception::{
     BlobStatus, Camera, Depth, DepthNoise, Frame, Identify, PastEdge, Perception,
-    PerceptionSettings, add_noise, perceive, render_depth,
+    PerceptionSettings, Solid, add_noise, perceive, render_depth, render_solids,
 };
 use pushmog::random::SeededRng;
 use pushmog::scene::{
@@ -447,7 +447,7 @@ fn objects_beyond_the_settings_bounds_are_too_tall_or_too_large() {
 }
 
 #[test]
-fn touching_objects_are_not_convex_alone_merged_with_a_prior_and_stacked_when_heights_differ() {
+fn touching_objects_are_not_convex_alone_merged_with_a_prior_and_parted_when_heights_differ() {
     // Two 40 mm squares side by side, one 30 mm higher up the table than the other.
     let truth = boxes(0.04, 0.04, &[(0.2, 0.2), (0.24, 0.23)]);
     let (camera, workspace) = (camera(), truth.workspace().clone());
@@ -466,15 +466,76 @@ fn touching_objects_are_not_convex_alone_merged_with_a_prior_and_stacked_when_he
         }]
     );
     assert!(merged.gone.is_empty(), "{:?}", merged.gone);
-    // Flush, at two heights: one convex blob with two plateaus.
-    let stacked = table(
+    // Flush, at two heights: one convex blob with two plateaus, parted into its two boxes.
+    let two_heights = table(
         vec![
             block(0, 0.2, 0.2, (0.04, 0.04), 0.03),
             block(1, 0.24, 0.2, (0.04, 0.04), 0.06),
         ],
         Workspace::new(0.5, 0.4),
     );
-    let s = statuses(&look(&stacked, &camera, &workspace, None));
+    let seen = look(&two_heights, &camera, &workspace, None);
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::Object; 2],
+        "{:?}",
+        seen.blobs
+    );
+    assert!(
+        fits(&two_heights, &seen).iter().all(|&f| f > 0.9),
+        "{:?}",
+        fits(&two_heights, &seen)
+    );
+    assert!(seen.adjustments.iter().any(|a| a.contains("parted")));
+}
+
+/// A box `top − bottom` tall whose bottom stands `bottom` above the table: a box on another one.
+fn raised_box(id: u32, centre: (f64, f64), side: f64, (bottom, top): (f64, f64)) -> Solid {
+    let half = side / 2.0;
+    let (x, y) = centre;
+    Solid {
+        id: ObjectId(id),
+        planes: vec![
+            (Vector3::z(), top),
+            (-Vector3::z(), -bottom),
+            (Vector3::x(), x + half),
+            (-Vector3::x(), -(x - half)),
+            (Vector3::y(), y + half),
+            (-Vector3::y(), -(y - half)),
+        ],
+        corners: [-1.0, 1.0]
+            .into_iter()
+            .flat_map(|sx| [-1.0, 1.0].map(move |sy| (sx, sy)))
+            .flat_map(|(sx, sy)| {
+                [bottom, top].map(|z| Point3::new(x + sx * half, y + sy * half, z))
+            })
+            .collect(),
+    }
+}
+
+#[test]
+fn a_box_on_another_is_stacked_and_not_parted() {
+    let camera = camera();
+    let solids = [
+        raised_box(0, (0.2, 0.2), 0.06, (0.0, 0.03)),
+        raised_box(1, (0.2, 0.2), 0.03, (0.03, 0.06)),
+    ];
+    let rendered = render_solids(&solids, &camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: None,
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        &Workspace::new(0.5, 0.4),
+        &Gripper::default(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    let s = statuses(&seen);
     let [BlobStatus::Stacked { heights }] = s.as_slice() else {
         panic!("{s:?}")
     };
@@ -482,6 +543,56 @@ fn touching_objects_are_not_convex_alone_merged_with_a_prior_and_stacked_when_he
         (heights[0] - 0.06).abs() < 2e-3 && (heights[1] - 0.03).abs() < 2e-3,
         "{heights:?}"
     );
+}
+
+#[test]
+fn boxes_apart_at_two_heights_that_meet_in_the_image_are_two_objects() {
+    // 170 mm from the nadir, the 60 mm box's top is seen about 16 mm further out than its foot,
+    // over the 12 mm gap and onto the 20 mm box beyond it: one blob of two plateaus.
+    let truth = table(
+        vec![
+            block(0, 0.08, 0.2, (0.03, 0.03), 0.06),
+            block(1, 0.038, 0.2, (0.03, 0.03), 0.02),
+        ],
+        Workspace::new(0.5, 0.4),
+    );
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: None,
+        heights: None,
+    };
+    let mut settings = PerceptionSettings::default();
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        &Gripper::default(),
+        None,
+        &settings,
+    )
+    .unwrap();
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::Object; 2],
+        "{:?}",
+        seen.blobs
+    );
+    let fit = fits(&truth, &seen);
+    assert!(fit[0] > 0.9 && fit[1] > 0.75, "{fit:?}");
+    // With the lower plateau too small to count as one, the two make one blob in the image.
+    settings.stacked_fraction = 0.9;
+    let whole = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        &Gripper::default(),
+        None,
+        &settings,
+    )
+    .unwrap();
+    assert_eq!(whole.blobs.len(), 1, "{:?}", whole.blobs);
 }
 
 #[test]

@@ -39,6 +39,7 @@ mod npy;
 mod occlusion;
 mod overlay;
 mod perceive;
+mod plateaus;
 mod render;
 mod report;
 mod settings;

@@ -11,6 +11,7 @@ use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
 use super::occlusion::{Neighbours, owners};
+use super::plateaus::{PartTest, part_blobs};
 use super::report::{BlobReport, BlobStatus, Perception};
 use super::settings::PerceptionSettings;
 use super::table::{TablePlane, fit_table};
@@ -62,6 +63,22 @@ pub fn perceive(
         .iter()
         .map(|b| top_of(b, heights.as_deref(), settings))
         .collect();
+    // Depth alone: a blob with two plateaus may be two objects that meet in the image.
+    let (blobs, measured) = match heights.as_deref() {
+        Some(h) => part_blobs(
+            blobs,
+            measured,
+            &PartTest {
+                heights: h,
+                camera,
+                overlap: settings.overlap_repair,
+            },
+            |b| top_of(b, Some(h), settings),
+            |b, m| judge(b, m, Some(h), None, camera, &table, workspace, settings),
+            &mut adjustments,
+        ),
+        None => (blobs, measured),
+    };
     // With labels two blobs can touch, and one may hide the other's wall (`occlusion.rs`).
     let owner = (frame.labels.is_some() && heights.is_some()).then(|| {
         owners(
