@@ -1059,3 +1059,56 @@ fn a_notch_a_labelled_neighbour_hides_is_not_a_notch_but_one_of_table_is() {
         seen.blobs
     );
 }
+
+#[test]
+fn a_low_box_that_a_taller_one_hides_is_cut_at_the_taller_ones_edge() {
+    // A 100 mm box turned 45°, 180 mm from the nadir, with a 20 mm box pressed against its corner
+    // on the far side: the tall box's top, seen about 30 mm further out than its foot, covers half
+    // of the low box, its corner pointing into it.
+    let mut tall = block(0, 0.07, 0.2, (0.04, 0.04), 0.1);
+    tall.pose = Pose::new(0.07, 0.2, std::f64::consts::FRAC_PI_4);
+    let low = block(
+        1,
+        0.07 - 0.02 * std::f64::consts::SQRT_2 - 0.0205,
+        0.2,
+        (0.04, 0.04),
+        0.02,
+    );
+    let truth = table(vec![tall, low], Workspace::new(0.5, 0.4));
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&rendered.labels),
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        &Gripper::default(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    // Cast as the low box's own, the tall box's corner would put the low box's outline inside
+    // the tall one's footprint, by more than is cut apart halfway.
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::Object; 2],
+        "{:?}",
+        seen.blobs
+    );
+    assert!(
+        seen.adjustments
+            .iter()
+            .any(|a| a.contains("cut where a taller blob")),
+        "{:?}",
+        seen.adjustments
+    );
+    let prints: Vec<ConvexPolygon> = seen.objects.iter().map(|o| o.world_polygon()).collect();
+    let (_, gap) = pushmog::geometry::max_separation(&prints[0], &prints[1]);
+    assert!(gap > -1e-6, "overlap {gap}");
+    let fit = fits(&truth, &seen);
+    assert!(fit[0] > 0.95 && fit[1] > 0.75, "{fit:?}");
+}

@@ -6,7 +6,7 @@ use nalgebra::Point2;
 use super::blobs::four_neighbours;
 use super::camera::Camera;
 use super::footprint::{footprint, footprint_by_edges, image_hull, solidity_behind};
-use super::occlusion::{Band, Neighbours, end_lifts};
+use super::occlusion::{Band, Neighbours, end_lifts, hidden_sides};
 use super::report::{BlobStatus, PastEdge};
 use super::settings::PerceptionSettings;
 use super::table::TablePlane;
@@ -42,6 +42,8 @@ pub struct Judged {
     /// Whether the blob is outside the workspace or over its edge and would be an object
     /// otherwise: whole in view, in one piece, one plateau, of an object's size and convex.
     pub past_edge: bool,
+    /// The blobs that stand in front of it in the image ([`hidden_sides`]), by index.
+    pub hidden_by: Vec<usize>,
 }
 
 /// The largest count of `sorted` values within a window `width` wide, and that window's median.
@@ -326,6 +328,7 @@ pub fn judge(
         Some(_) => cut,
         None => cut.max(settings.cut_height),
     };
+    let mut hidden_by = Vec::new();
     let print = match (&hull, top) {
         (Some(hull), Some(top)) if top > lowest_top => match heights {
             // With depth, each edge of the hull is back-projected at the height its silhouette
@@ -342,6 +345,16 @@ pub fn judge(
                     width,
                     neighbours,
                 );
+                // Where a taller neighbour stands in front, this blob goes on beneath it; the two
+                // are cut apart at the neighbour's edge once every blob is judged (`hidden.rs`).
+                if let Some(n) = neighbours {
+                    hidden_by = hidden_sides(&hull.corners, top, h, width, n)
+                        .into_iter()
+                        .flatten()
+                        .collect();
+                    hidden_by.sort_unstable();
+                    hidden_by.dedup();
+                }
                 footprint_by_edges(hull, camera, table, top, &lifts)
             }
             _ => footprint(hull, camera, table, top, cut),
@@ -374,6 +387,7 @@ pub fn judge(
         footprint: print,
         status,
         past_edge,
+        hidden_by,
     }
 }
 

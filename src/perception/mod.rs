@@ -32,6 +32,7 @@ mod blobs;
 mod camera;
 mod fit;
 mod footprint;
+mod hidden;
 mod identify;
 mod input;
 mod noise;

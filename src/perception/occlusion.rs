@@ -136,11 +136,27 @@ pub fn end_lifts(
 fn hiding_top(
     a: Point2<f64>,
     b: Point2<f64>,
-    (from, to): (f64, f64),
+    part: (f64, f64),
     heights: &[f64],
     width: usize,
     neighbours: &Neighbours,
 ) -> Option<f64> {
+    let (blob, median) = outside(a, b, part, heights, width, neighbours)?;
+    let top = neighbours.tops.get(blob).copied().flatten()?;
+    ((median - top).abs() <= TOP_BAND).then_some(top)
+}
+
+/// The blob most of whose pixels lie just outside the part `(from, to)` of the side `a → b`, when
+/// it holds at least `MIN_PIXELS` of them and `MIN_SHARE` of those with depth, and the median
+/// height of its pixels there.
+fn outside(
+    a: Point2<f64>,
+    b: Point2<f64>,
+    (from, to): (f64, f64),
+    heights: &[f64],
+    width: usize,
+    neighbours: &Neighbours,
+) -> Option<(usize, f64)> {
     let edge = b - a;
     let length = edge.norm();
     if length < 1e-9 {
@@ -185,9 +201,39 @@ fn hiding_top(
     if group.len() < MIN_PIXELS || (group.len() as f64) < MIN_SHARE * seen.len() as f64 {
         return None;
     }
-    let top = neighbours.tops.get(group[0].0).copied().flatten()?;
-    let median = group[group.len() / 2].1;
-    ((median - top).abs() <= TOP_BAND).then_some(top)
+    Some((group[0].0, group[group.len() / 2].1))
+}
+
+/// For each side `k` of the counter-clockwise image loop `corners`, the neighbour that hides the
+/// blob beyond it, if one does: a neighbour whose pixels just outside either end third of the side
+/// (the whole side, for one shorter than `MIN_LENGTH`) stand, by their median, more than
+/// `TOP_BAND` above the blob's `top`. A ray meets the higher surface first, so there the neighbour
+/// is in front, and the side is the neighbour's silhouette, not the blob's: where the blob ends
+/// beneath it the pixels do not say (`formulations/perception.md`, "Hidden by a taller
+/// neighbour").
+pub fn hidden_sides(
+    corners: &[Point2<f64>],
+    top: f64,
+    heights: &[f64],
+    width: usize,
+    neighbours: &Neighbours,
+) -> Vec<Option<usize>> {
+    let n = corners.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (corners[k], corners[(k + 1) % n]);
+            let parts: &[(f64, f64)] = if (b - a).norm() < MIN_LENGTH {
+                &[(0.0, 1.0)]
+            } else {
+                &[(0.0, END_SHARE), (1.0 - END_SHARE, 1.0)]
+            };
+            parts.iter().find_map(|&part| {
+                outside(a, b, part, heights, width, neighbours)
+                    .filter(|&(_, median)| median > top + TOP_BAND)
+                    .map(|(blob, _)| blob)
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use super::align::in_prior_frame;
 use super::blob::{Blob, Judged, above_cut, judge, past_edge_objects, position, top_of};
 use super::blobs::{Mask, components, grow_labels};
 use super::camera::Camera;
+use super::hidden::cut_hidden;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
 use super::occlusion::{Neighbours, owners};
 use super::plateaus::{PartTest, part_blobs};
@@ -87,7 +88,7 @@ pub fn perceive(
         )
     });
     let tops: Vec<Option<f64>> = measured.iter().map(|m| m.0).collect();
-    let judged: Vec<Judged> = blobs
+    let mut judged: Vec<Judged> = blobs
         .iter()
         .zip(&measured)
         .enumerate()
@@ -109,6 +110,7 @@ pub fn perceive(
             )
         })
         .collect();
+    cut_hidden(&mut judged, &mut adjustments);
     let mut reports: Vec<BlobReport> = blobs
         .iter()
         .zip(&judged)

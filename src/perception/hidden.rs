@@ -1,0 +1,60 @@
+//! Objects cut apart where a taller neighbour hides one of them (`formulations/perception.md`,
+//! "Hidden by a taller neighbour").
+//!
+//! Where a neighbour `T`'s pixels just outside blob `A`'s outline stand above `A`'s top, a ray meets
+//! `T` first: `T` stands in front, and that stretch of `A`'s outline is `T`'s silhouette. Cast as
+//! `A`'s own, it can land inside `T`'s footprint. Two objects do not overlap, and `T`, the taller,
+//! shows its whole top; so where the two footprints overlap, `A` alone yields: it is cut at `T`'s
+//! edge, along the axis that separates them best, instead of halfway or, past
+//! [`PerceptionSettings::overlap_repair`](super::PerceptionSettings::overlap_repair), being
+//! reported as `overlap`. Footprints that do not overlap are left as they are.
+
+use super::blob::Judged;
+use super::report::BlobStatus;
+use crate::geometry::{ConvexPolygon, clip, max_separation, tidy_polygon};
+
+/// Each object of `judged` that a taller neighbour hides, cut where its footprint overlaps that
+/// neighbour's; each cut noted in `adjustments`.
+pub fn cut_hidden(judged: &mut [Judged], adjustments: &mut Vec<String>) {
+    let cut: Vec<(usize, ConvexPolygon)> = (0..judged.len())
+        .filter_map(|i| Some((i, yielded(judged, i)?)))
+        .collect();
+    for (i, print) in cut {
+        let before = judged[i]
+            .footprint
+            .as_ref()
+            .map_or(0.0, ConvexPolygon::area);
+        adjustments.push(format!(
+            "the blob in pixels {:?} cut where a taller blob in front of it overlapped it: {:.0} mm² \
+             of its footprint",
+            judged[i].pixel_box,
+            (before - print.area()) * 1e6
+        ));
+        judged[i].footprint = Some(print);
+    }
+}
+
+/// Blob `i`'s footprint cut at the edge of each neighbour in front of it that it overlaps; `None`
+/// when nothing is cut.
+fn yielded(judged: &[Judged], i: usize) -> Option<ConvexPolygon> {
+    let a = &judged[i];
+    if a.status != BlobStatus::Object || a.hidden_by.is_empty() {
+        return None;
+    }
+    let mut print = a.footprint.clone()?;
+    let mut changed = false;
+    for &t in &a.hidden_by {
+        let Some(theirs) = &judged[t].footprint else {
+            continue;
+        };
+        let (normal, gap) = max_separation(&print, theirs);
+        if gap >= 0.0 {
+            continue;
+        }
+        // `theirs` begins at `support + gap` along `normal`.
+        let edge = print.support(&normal) + gap;
+        print = tidy_polygon(&clip(print.vertices(), &normal, edge))?;
+        changed = true;
+    }
+    changed.then_some(print)
+}
