@@ -1111,4 +1111,7 @@ fn a_low_box_that_a_taller_one_hides_is_cut_at_the_taller_ones_edge() {
     assert!(gap > -1e-6, "overlap {gap}");
     let fit = fits(&truth, &seen);
     assert!(fit[0] > 0.95 && fit[1] > 0.75, "{fit:?}");
+    // The report says which blob stands in front of which.
+    let hidden: Vec<&[usize]> = seen.blobs.iter().map(|b| b.hidden_by.as_slice()).collect();
+    assert_eq!(hidden, [&[][..], &[0][..]]);
 }

@@ -77,7 +77,8 @@ class Camera:
 @dataclass(frozen=True)
 class Perception:
     """What one look found: a report per blob (dicts with ``status``, ``pixel_box``, ``position``,
-    ``top_height``, ``solidity``, ``id``), the fitted table, the prior's ids that are gone and the
+    ``top_height``, ``solidity``, ``id``, and ``hidden_by``, the indices of taller blobs in front of
+    it, when there are any), the fitted table, the prior's ids that are gone and the
     adjustments made. :meth:`scene` gives the objects as a scene. ``past_edge`` lists the blobs
     outside the workspace or over its edge that would be objects otherwise, each a dict with
     ``blob`` (the index of its report in ``blobs``) and ``object`` (its footprint where it lies, in

@@ -123,6 +123,7 @@ pub fn perceive(
             solidity: j.solidity,
             status: j.status.clone(),
             id: None,
+            hidden_by: j.hidden_by.clone(),
         })
         .collect();
     let past_edge = past_edge_objects(&blobs, &judged);

@@ -89,6 +89,12 @@ pub struct BlobReport {
     /// The object it became, if it became one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<ObjectId>,
+    /// The blobs (indices into the look's `blobs`) that stand in front of it in the image, taller
+    /// than it: where they do, its footprint is only what shows, and it may go on beneath them
+    /// (`formulations/perception.md`, "Hidden by a taller neighbour"). Absent when none; labels
+    /// with depth only.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hidden_by: Vec<usize>,
 }
 
 /// What a look found, as the report file holds it (`pushmog schema perception-report`): everything
