@@ -1,6 +1,6 @@
 //! `perceive` on a 1280 × 720 depth frame of a 34-object table with the default noise, one thread,
 //! the frame already in memory (issue 40's aim: a median of 20 ms or less), with the default settings,
-//! with `fit_sides`, and without `fit_outline` (the median hull alone).
+//! with `fit_sides`, without `fit_outline` (the median hull alone), and with exact instance labels.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -49,6 +49,25 @@ fn perception(c: &mut Criterion) {
             })
         });
     }
+    // The same look with the renderer's exact instance labels, as a segmenter would give them.
+    let labelled = Frame {
+        depth: Some(Depth::Metres(&depth)),
+        labels: Some(&rendered.labels),
+        ..Frame::default()
+    };
+    c.bench_function("perceive/1280x720/34-objects/labels", |b| {
+        b.iter(|| {
+            perceive(
+                &labelled,
+                &camera,
+                scene.workspace(),
+                scene.gripper(),
+                None,
+                &PerceptionSettings::default(),
+            )
+            .unwrap()
+        })
+    });
     c.bench_function("render_depth/1280x720/34-objects", |b| {
         b.iter(|| render_depth(&scene, &camera).unwrap())
     });

@@ -264,19 +264,35 @@ fn group(labels: &[u32]) -> BTreeMap<u32, Vec<usize>> {
     groups
 }
 
-/// Whether `pixels` form more than one 4-connected piece of at least 10 pixels.
-fn is_split(pixels: &[usize], width: usize, height: usize) -> bool {
-    let mut set = vec![false; width * height];
+/// Whether `pixels` form more than one 4-connected piece of at least 10 pixels (looked at within
+/// their bounding box, where all their connections lie).
+fn is_split(pixels: &[usize], width: usize) -> bool {
+    let Some((u0, v0, u1, v1)) = pixels.iter().fold(None, |b, &i| {
+        let (u, v) = (i % width, i / width);
+        Some(b.map_or(
+            (u, v, u, v),
+            |(a, c, d, e): (usize, usize, usize, usize)| (a.min(u), c.min(v), d.max(u), e.max(v)),
+        ))
+    }) else {
+        return false;
+    };
+    let (w, h) = (u1 - u0 + 1, v1 - v0 + 1);
+    let local = |i: usize| (i / width - v0) * w + (i % width - u0);
+    let mut set = vec![false; w * h];
     for &i in pixels {
-        set[i] = true;
+        set[local(i)] = true;
     }
-    let (parts, count) = components(&Mask { width, height, set });
+    let (parts, count) = components(&Mask {
+        width: w,
+        height: h,
+        set,
+    });
     if count < 2 {
         return false;
     }
     let mut sizes = vec![0_usize; count as usize + 1];
     for &i in pixels {
-        sizes[parts[i] as usize] += 1;
+        sizes[parts[local(i)] as usize] += 1;
     }
     sizes.iter().filter(|&&s| s >= 10).count() > 1
 }
@@ -288,14 +304,11 @@ fn find_blobs(
     camera: &Camera,
     settings: &PerceptionSettings,
 ) -> Vec<Blob> {
-    let (width, height) = (
-        camera.intrinsics.width as usize,
-        camera.intrinsics.height as usize,
-    );
+    let width = camera.intrinsics.width as usize;
     let given = |label: u32| frame.heights.and_then(|h| h.get(&label).copied());
     let labelled = |label: u32, pixels: Vec<usize>, cut: f64| Blob {
         label: Some(label),
-        split: is_split(&pixels, width, height),
+        split: is_split(&pixels, width),
         pixels,
         given_height: given(label),
         cut,
