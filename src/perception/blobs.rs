@@ -150,6 +150,33 @@ impl Window {
         kept
     }
 
+    /// The box's columns and rows, its margin included.
+    pub fn size(&self) -> (usize, usize) {
+        (self.columns as usize, self.rows as usize)
+    }
+
+    /// The blob's bitmap as a mask over the box (row-major, [`Window::size`]).
+    pub fn mask(&self) -> Mask {
+        let (width, height) = self.size();
+        Mask {
+            width,
+            height,
+            set: self.set.clone(),
+        }
+    }
+
+    /// The box's index of the image's pixel `i` (rows of `width`), a pixel within the box.
+    pub fn local(&self, i: usize, width: usize) -> usize {
+        let (u, v) = ((i % width) as isize, (i / width) as isize);
+        ((v - self.v0) * self.columns + u - self.u0) as usize
+    }
+
+    /// The image's index (rows of `width`) of the box's pixel `j`.
+    pub fn image_index(&self, j: usize, width: usize) -> usize {
+        let (x, y) = ((j as isize) % self.columns, (j as isize) / self.columns);
+        ((self.v0 + y) as usize) * width + (self.u0 + x) as usize
+    }
+
     /// Whether pixel `(u, v)` is one of the blob's.
     pub fn holds(&self, u: isize, v: isize) -> bool {
         let (x, y) = (u - self.u0, v - self.v0);

@@ -7,7 +7,7 @@ use nalgebra::{Point2, Point3, Vector2};
 
 use super::align::in_prior_frame;
 use super::blob::{Blob, Judged, above_cut, judge, past_edge_objects, position, top_of};
-use super::blobs::{Mask, components, grow_labels};
+use super::blobs::{Mask, Window, components, grow_labels};
 use super::camera::Camera;
 use super::hidden::cut_hidden;
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
@@ -265,34 +265,19 @@ fn group(labels: &[u32]) -> BTreeMap<u32, Vec<usize>> {
 }
 
 /// Whether `pixels` form more than one 4-connected piece of at least 10 pixels (looked at within
-/// their bounding box, where all their connections lie).
+/// their box, where all their connections lie).
 fn is_split(pixels: &[usize], width: usize) -> bool {
-    let Some((u0, v0, u1, v1)) = pixels.iter().fold(None, |b, &i| {
-        let (u, v) = (i % width, i / width);
-        Some(b.map_or(
-            (u, v, u, v),
-            |(a, c, d, e): (usize, usize, usize, usize)| (a.min(u), c.min(v), d.max(u), e.max(v)),
-        ))
-    }) else {
+    if pixels.is_empty() {
         return false;
-    };
-    let (w, h) = (u1 - u0 + 1, v1 - v0 + 1);
-    let local = |i: usize| (i / width - v0) * w + (i % width - u0);
-    let mut set = vec![false; w * h];
-    for &i in pixels {
-        set[local(i)] = true;
     }
-    let (parts, count) = components(&Mask {
-        width: w,
-        height: h,
-        set,
-    });
+    let window = Window::around(pixels, width);
+    let (parts, count) = components(&window.mask());
     if count < 2 {
         return false;
     }
     let mut sizes = vec![0_usize; count as usize + 1];
     for &i in pixels {
-        sizes[parts[local(i)] as usize] += 1;
+        sizes[parts[window.local(i, width)] as usize] += 1;
     }
     sizes.iter().filter(|&&s| s >= 10).count() > 1
 }

@@ -14,10 +14,11 @@
 //! to its foot beside the lower plateau, and pixels without depth go last, to whichever part holds
 //! them.
 //!
-//! **Kept only when both parts are upright prisms apart** ([`PartTest`]): each part has one plateau,
-//! a footprint of an object's size and a convex image; its top face, the pixels within `BAND` of its top, fills at least `MIN_FILL` of its footprint as
-//! the image shows that footprint at the top's height (a slope's most populated band of heights
-//! does not); and the two footprints overlap by no more than
+//! **Kept only when both parts are upright prisms apart** ([`PartTest`]): each part has one
+//! plateau, a footprint of an object's size and a convex image; its top face, the pixels within
+//! `BAND` of its top, fills at least `MIN_FILL` of its footprint as the image shows that footprint
+//! at the top's height (a slope's most populated band of heights does not); and the two footprints
+//! overlap by no more than
 //! [`PerceptionSettings::overlap_repair`](super::PerceptionSettings::overlap_repair) (one object on
 //! another overlaps the one under it). Otherwise the blob stays whole, and `stacked`.
 
@@ -27,7 +28,7 @@ use std::collections::BinaryHeap;
 use nalgebra::Point3;
 
 use super::blob::{Blob, Judged};
-use super::blobs::{Mask, components};
+use super::blobs::{Mask, Window, components};
 use super::camera::Camera;
 use super::report::BlobStatus;
 use crate::geometry::{ConvexPolygon, max_separation};
@@ -49,19 +50,14 @@ pub fn part(
     heights: &[f64],
     width: usize,
 ) -> Option<[Vec<usize>; 2]> {
+    if pixels.is_empty() {
+        return None;
+    }
     // The blob's box, where the flood runs.
-    let (mut u0, mut v0, mut u1, mut v1) = (usize::MAX, usize::MAX, 0, 0);
-    for &i in pixels {
-        let (u, v) = (i % width, i / width);
-        (u0, v0, u1, v1) = (u0.min(u), v0.min(v), u1.max(u), v1.max(v));
-    }
-    let (w, h) = (u1 - u0 + 1, v1 - v0 + 1);
-    let local = |i: usize| (i / width - v0) * w + (i % width - u0);
-    let global = |j: usize| (j / w + v0) * width + (j % w + u0);
-    let mut inside = vec![false; w * h];
-    for &i in pixels {
-        inside[local(i)] = true;
-    }
+    let window = Window::around(pixels, width);
+    let (w, h) = window.size();
+    let inside = window.mask().set;
+    let global = |j: usize| window.image_index(j, width);
     // 0: not yet reached; 1 and 2: the parts.
     let mut part = vec![0_u8; w * h];
     for (k, &level) in levels.iter().enumerate() {
@@ -132,7 +128,7 @@ pub fn part(
     }
     let mut parts = [Vec::new(), Vec::new()];
     for &i in pixels {
-        match part[local(i)] {
+        match part[window.local(i, width)] {
             1 => parts[0].push(i),
             2 => parts[1].push(i),
             _ => {}
