@@ -103,3 +103,24 @@ def test_objects_past_the_workspaces_edge_are_listed_where_they_lie(scene):
         assert float(np.min(np.linalg.norm(truths - [pose["x"], pose["y"]], axis=1))) < 0.002
     # The whole table as the workspace: nothing past its edge.
     assert pushmog.perceive(depth, CAMERA, workspace=scene).past_edge == []
+
+
+def test_a_taller_object_in_front_is_listed_and_the_hidden_one_cut_at_its_edge():
+    # A 100 mm box turned 45°, 180 mm from the nadir, and a 20 mm box against its far corner: the
+    # tall box's top is seen over half of the low one (as in the Rust test of the same rule).
+    square = [[-0.02, -0.02], [0.02, -0.02], [0.02, 0.02], [-0.02, 0.02]]
+    low_x = 0.07 - 0.02 * np.sqrt(2.0) - 0.0205
+    scene = pushmog.Scene.from_dict({
+        "workspace": {"min": [0.0, 0.0], "max": [0.5, 0.4]},
+        "objects": [
+            {"id": 0, "vertices": square, "height": 0.1, "pose": {"x": 0.07, "y": 0.2, "yaw": np.pi / 4}},
+            {"id": 1, "vertices": square, "height": 0.02, "pose": {"x": low_x, "y": 0.2, "yaw": 0.0}},
+        ],
+    })
+    camera = pushmog.Camera.looking_down(640, 480, fov=1.0, x=0.25, y=0.2, above=0.7)
+    depth, labels, _ = pushmog.render_depth(scene, camera)
+    look = pushmog.perceive(depth, camera, labels=labels, workspace=scene)
+    assert [b["status"] for b in look.blobs] == ["object", "object"]
+    assert [b.get("hidden_by", []) for b in look.blobs] == [[], [0]]
+    assert any("cut where a taller blob" in a for a in look.adjustments)
+    assert len(look.scene()) == 2
