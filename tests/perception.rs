@@ -1115,3 +1115,48 @@ fn a_low_box_that_a_taller_one_hides_is_cut_at_the_taller_ones_edge() {
     let hidden: Vec<&[usize]> = seen.blobs.iter().map(|b| b.hidden_by.as_slice()).collect();
     assert_eq!(hidden, [&[][..], &[0][..]]);
 }
+
+#[test]
+fn a_label_cut_in_two_by_a_taller_object_in_front_is_one_object() {
+    // A 100 × 16 mm bar 15 mm tall, 200 mm from the nadir, and a 100 mm box 2 mm from it toward
+    // the nadir: the box's top, seen 25 mm further out than its foot on the bar's top plane, hides
+    // the bar's middle across its whole width.
+    let truth = table(
+        vec![
+            block(0, 0.072, 0.2, (0.02, 0.02), 0.1),
+            block(1, 0.052, 0.2, (0.016, 0.1), 0.015),
+        ],
+        Workspace::new(0.5, 0.4),
+    );
+    let camera = camera();
+    let rendered = render_depth(&truth, &camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&rendered.labels),
+        heights: None,
+    };
+    let seen = perceive(
+        &frame,
+        &camera,
+        truth.workspace(),
+        &Gripper::default(),
+        None,
+        &PerceptionSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        statuses(&seen),
+        vec![BlobStatus::Object; 2],
+        "{:?}",
+        seen.blobs
+    );
+    assert!(
+        seen.adjustments.iter().any(|a| a.contains("in pieces")),
+        "{:?}",
+        seen.adjustments
+    );
+    assert_eq!(seen.blobs[1].hidden_by, [0]);
+    // At 1.2 mm per pixel a 20 mm box fits to about 0.93; the bar is the hull of its two ends.
+    let fit = fits(&truth, &seen);
+    assert!(fit[0] > 0.9 && fit[1] > 0.8, "{fit:?}");
+}

@@ -171,10 +171,12 @@ impl Window {
         ((v - self.v0) * self.columns + u - self.u0) as usize
     }
 
-    /// The image's index (rows of `width`) of the box's pixel `j`.
-    pub fn image_index(&self, j: usize, width: usize) -> usize {
+    /// The image's index (rows of `width`) of the box's pixel `j`; `None` for a pixel of the
+    /// margin left of or above the image.
+    pub fn image_index(&self, j: usize, width: usize) -> Option<usize> {
         let (x, y) = ((j as isize) % self.columns, (j as isize) / self.columns);
-        ((self.v0 + y) as usize) * width + (self.u0 + x) as usize
+        let (u, v) = (self.u0 + x, self.v0 + y);
+        (u >= 0 && v >= 0 && (u as usize) < width).then(|| v as usize * width + u as usize)
     }
 
     /// Whether pixel `(u, v)` is one of the blob's.

@@ -9,9 +9,14 @@
 //! [`PerceptionSettings::overlap_repair`](super::PerceptionSettings::overlap_repair), being
 //! reported as `overlap`. Footprints that do not overlap are left as they are.
 
-use super::blob::Judged;
+use super::blob::{Blob, Judged};
+use super::blobs::{Window, components};
 use super::report::BlobStatus;
 use crate::geometry::{ConvexPolygon, clip, max_separation, tidy_polygon};
+
+/// How much higher than a blob, metres, a neighbour's top must stand to be taller than it: the
+/// `TOP_BAND` of `occlusion.rs`.
+const TALLER: f64 = 0.003;
 
 /// Each object of `judged` that a taller neighbour hides, cut where its footprint overlaps that
 /// neighbour's; each cut noted in `adjustments`.
@@ -57,4 +62,41 @@ fn yielded(judged: &[Judged], i: usize) -> Option<ConvexPolygon> {
         changed = true;
     }
     changed.then_some(print)
+}
+
+/// Whether the pieces of a blob whose label is split (`blob`, index `index`, top `top`) are joined
+/// by the pixels of taller blobs in front of it (`owner` and `tops` as in
+/// [`Neighbours`](super::occlusion::Neighbours)): then a taller object stands across it in the
+/// image, and its label is one object seen in pieces, not a segmentation fault.
+pub fn joined_behind(
+    blob: &Blob,
+    index: usize,
+    top: f64,
+    owner: &[u32],
+    tops: &[Option<f64>],
+    width: usize,
+) -> bool {
+    if blob.pixels.is_empty() {
+        return false;
+    }
+    let window = Window::around(&blob.pixels, width);
+    let mut mask = window.mask();
+    let taller = |o: u32| {
+        o != 0 && o as usize - 1 != index && tops[o as usize - 1].is_some_and(|t| t > top + TALLER)
+    };
+    for (j, set) in mask.set.iter_mut().enumerate() {
+        let in_front = window
+            .image_index(j, width)
+            .is_some_and(|i| i < owner.len() && taller(owner[i]));
+        *set = *set || in_front;
+    }
+    let (parts, _) = components(&mask);
+    let mut pieces: Vec<u32> = blob
+        .pixels
+        .iter()
+        .map(|&i| parts[window.local(i, width)])
+        .collect();
+    pieces.sort_unstable();
+    pieces.dedup();
+    pieces.len() == 1
 }

@@ -205,8 +205,8 @@ fn outside(
 }
 
 /// For each side `k` of the counter-clockwise image loop `corners`, the neighbour that hides the
-/// blob beyond it, if one does: a neighbour whose pixels just outside either end third of the side
-/// (the whole side, for one shorter than `MIN_LENGTH`) stand, by their median, more than
+/// blob beyond it, if one does: a neighbour whose pixels just outside a third of the side (the
+/// whole side, for one shorter than `MIN_LENGTH`) stand, by their median, more than
 /// `TOP_BAND` above the blob's `top`. A ray meets the higher surface first, so there the neighbour
 /// is in front, and the side is the neighbour's silhouette, not the blob's: where the blob ends
 /// beneath it the pixels do not say (`formulations/perception.md`, "Hidden by a taller
@@ -225,7 +225,11 @@ pub fn hidden_sides(
             let parts: &[(f64, f64)] = if (b - a).norm() < MIN_LENGTH {
                 &[(0.0, 1.0)]
             } else {
-                &[(0.0, END_SHARE), (1.0 - END_SHARE, 1.0)]
+                &[
+                    (0.0, END_SHARE),
+                    (END_SHARE, 1.0 - END_SHARE),
+                    (1.0 - END_SHARE, 1.0),
+                ]
             };
             parts.iter().find_map(|&part| {
                 outside(a, b, part, heights, width, neighbours)

@@ -9,7 +9,7 @@ use super::align::in_prior_frame;
 use super::blob::{Blob, Judged, above_cut, judge, past_edge_objects, position, top_of};
 use super::blobs::{Mask, Window, components, grow_labels};
 use super::camera::Camera;
-use super::hidden::cut_hidden;
+use super::hidden::{cut_hidden, joined_behind};
 use super::input::{Frame, check_workspace_in_view, depth_in_metres};
 use super::occlusion::{Neighbours, owners};
 use super::plateaus::{PartTest, part_blobs};
@@ -88,6 +88,23 @@ pub fn perceive(
         )
     });
     let tops: Vec<Option<f64>> = measured.iter().map(|m| m.0).collect();
+    // A label in pieces with a taller object standing across it is one object, partly hidden.
+    let mut blobs = blobs;
+    if let Some(owner) = &owner {
+        let width = camera.intrinsics.width as usize;
+        for (index, blob) in blobs.iter_mut().enumerate() {
+            if let (true, Some(top)) = (blob.split, tops[index])
+                && joined_behind(blob, index, top, owner, &tops, width)
+            {
+                blob.split = false;
+                adjustments.push(format!(
+                    "label {} is in pieces with a taller object across it: one object, partly \
+                     hidden",
+                    blob.label.unwrap_or(0)
+                ));
+            }
+        }
+    }
     let mut judged: Vec<Judged> = blobs
         .iter()
         .zip(&measured)

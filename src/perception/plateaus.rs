@@ -57,12 +57,18 @@ pub fn part(
     let window = Window::around(pixels, width);
     let (w, h) = window.size();
     let inside = window.mask().set;
-    let global = |j: usize| window.image_index(j, width);
+    // The height of the box's pixel `j` (none in the margin beyond the image).
+    let height = |j: usize| {
+        window
+            .image_index(j, width)
+            .and_then(|i| heights.get(i).copied())
+            .unwrap_or(f64::NAN)
+    };
     // 0: not yet reached; 1 and 2: the parts.
     let mut part = vec![0_u8; w * h];
     for (k, &level) in levels.iter().enumerate() {
         let set: Vec<bool> = (0..w * h)
-            .map(|j| inside[j] && part[j] == 0 && (heights[global(j)] - level).abs() <= BAND)
+            .map(|j| inside[j] && part[j] == 0 && (height(j) - level).abs() <= BAND)
             .collect();
         let (pieces, count) = components(&Mask {
             width: w,
@@ -84,7 +90,7 @@ pub fn part(
     // its own height and the level of the neighbour it is reached from, highest level first, ties in
     // the order reached. Pixels without depth are reached last.
     let key = |j: usize| {
-        let z = heights[global(j)];
+        let z = height(j);
         if z.is_finite() {
             (z * 1e6).round() as i64
         } else {
