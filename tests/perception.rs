@@ -75,6 +75,17 @@ fn look_with(
     perceive(&frame, camera, workspace, truth.gripper(), prior, settings).unwrap()
 }
 
+/// What `camera` makes of `truth` with exact depth and the renderer's instance labels.
+fn look_labelled(truth: &Scene, camera: &Camera) -> Perception {
+    let rendered = render_depth(truth, camera).unwrap();
+    let frame = Frame {
+        depth: Some(Depth::Metres(&rendered.depth)),
+        labels: Some(&rendered.labels),
+        heights: None,
+    };
+    perceive_default(&frame, camera, truth, None)
+}
+
 /// What `perceive` with the default settings makes of `frame`, against `truth`'s workspace.
 fn perceive_default(
     frame: &Frame,
@@ -557,22 +568,8 @@ fn boxes_apart_at_two_heights_that_meet_in_the_image_are_two_objects() {
         Workspace::new(0.5, 0.4),
     );
     let camera = camera();
-    let rendered = render_depth(&truth, &camera).unwrap();
-    let frame = Frame {
-        depth: Some(Depth::Metres(&rendered.depth)),
-        labels: None,
-        heights: None,
-    };
     let mut settings = PerceptionSettings::default();
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        &Gripper::default(),
-        None,
-        &settings,
-    )
-    .unwrap();
+    let seen = look_with(&truth, &camera, truth.workspace(), None, &settings);
     assert_eq!(
         statuses(&seen),
         vec![BlobStatus::Object; 2],
@@ -583,15 +580,7 @@ fn boxes_apart_at_two_heights_that_meet_in_the_image_are_two_objects() {
     assert!(fit[0] > 0.9 && fit[1] > 0.75, "{fit:?}");
     // With the lower plateau too small to count as one, the two make one blob in the image.
     settings.stacked_fraction = 0.9;
-    let whole = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        &Gripper::default(),
-        None,
-        &settings,
-    )
-    .unwrap();
+    let whole = look_with(&truth, &camera, truth.workspace(), None, &settings);
     assert_eq!(whole.blobs.len(), 1, "{:?}", whole.blobs);
 }
 
@@ -1076,21 +1065,7 @@ fn a_low_box_that_a_taller_one_hides_is_cut_at_the_taller_ones_edge() {
     );
     let truth = table(vec![tall, low], Workspace::new(0.5, 0.4));
     let camera = camera();
-    let rendered = render_depth(&truth, &camera).unwrap();
-    let frame = Frame {
-        depth: Some(Depth::Metres(&rendered.depth)),
-        labels: Some(&rendered.labels),
-        heights: None,
-    };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        &Gripper::default(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = look_labelled(&truth, &camera);
     // Cast as the low box's own, the tall box's corner would put the low box's outline inside
     // the tall one's footprint, by more than is cut apart halfway.
     assert_eq!(
@@ -1129,21 +1104,7 @@ fn a_label_cut_in_two_by_a_taller_object_in_front_is_one_object() {
         Workspace::new(0.5, 0.4),
     );
     let camera = camera();
-    let rendered = render_depth(&truth, &camera).unwrap();
-    let frame = Frame {
-        depth: Some(Depth::Metres(&rendered.depth)),
-        labels: Some(&rendered.labels),
-        heights: None,
-    };
-    let seen = perceive(
-        &frame,
-        &camera,
-        truth.workspace(),
-        &Gripper::default(),
-        None,
-        &PerceptionSettings::default(),
-    )
-    .unwrap();
+    let seen = look_labelled(&truth, &camera);
     assert_eq!(
         statuses(&seen),
         vec![BlobStatus::Object; 2],
