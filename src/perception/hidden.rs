@@ -1,5 +1,5 @@
-//! Objects cut apart where a taller neighbour hides one of them (`formulations/perception.md`,
-//! "Hidden by a taller neighbour").
+//! Objects a taller neighbour hides in part: cut apart from it where they overlap, and joined when
+//! it leaves their label in pieces (`formulations/perception.md`, "Hidden by a taller neighbour").
 //!
 //! Where a neighbour `T`'s pixels just outside blob `A`'s outline stand above `A`'s top, a ray meets
 //! `T` first: `T` stands in front, and that stretch of `A`'s outline is `T`'s silhouette. Cast as
@@ -8,6 +8,10 @@
 //! edge, along the axis that separates them best, instead of halfway or, past
 //! [`PerceptionSettings::overlap_repair`](super::PerceptionSettings::overlap_repair), being
 //! reported as `overlap`. Footprints that do not overlap are left as they are.
+//!
+//! A taller object standing across a lower one in the image can leave the lower one's label in
+//! pieces. Joined through the taller blobs' pixels, such pieces make one: the label is one object
+//! seen in parts ([`joined_behind`]), not a split label.
 
 use super::blob::{Blob, Judged};
 use super::blobs::{Window, components};
@@ -90,13 +94,11 @@ pub fn joined_behind(
             .is_some_and(|i| i < owner.len() && taller(owner[i]));
         *set = *set || in_front;
     }
-    let (parts, _) = components(&mask);
-    let mut pieces: Vec<u32> = blob
-        .pixels
-        .iter()
-        .map(|&i| parts[window.local(i, width)])
-        .collect();
-    pieces.sort_unstable();
-    pieces.dedup();
-    pieces.len() == 1
+    // Counted as the split itself is: pieces of 10 pixels or more.
+    let (parts, count) = components(&mask);
+    let mut sizes = vec![0_usize; count as usize + 1];
+    for &i in &blob.pixels {
+        sizes[parts[window.local(i, width)] as usize] += 1;
+    }
+    sizes.iter().filter(|&&s| s >= 10).count() <= 1
 }

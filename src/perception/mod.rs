@@ -14,6 +14,11 @@
 //!   pixels on both sides of its edge by a logistic loss (`fit.rs`); with
 //!   [`PerceptionSettings::fit_sides`], the image outline is built from lines fitted to the blob's
 //!   outermost pixels, with the corner tips that the median cut put back (`sides.rs`);
+//! - without labels, a blob with two plateaus is parted into two objects when both parts are
+//!   upright prisms apart (`plateaus.rs`, a watershed from the plateaus);
+//! - with labels and depth, an object a taller neighbour stands in front of is cut at that
+//!   neighbour's edge where the two overlap, and a label the neighbour leaves in pieces is one
+//!   object (`hidden.rs`);
 //! - every blob gets a [`BlobStatus`]; those that block planning keep [`Perception::scene`] from
 //!   giving a scene, so nothing in view is dropped silently;
 //! - ids are kept by matching centroids to a prior scene (`track.rs`), and an object the prior holds
