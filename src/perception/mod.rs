@@ -35,6 +35,7 @@ mod align;
 mod blob;
 mod blobs;
 mod camera;
+mod find;
 mod fit;
 mod footprint;
 mod hidden;

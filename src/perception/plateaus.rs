@@ -28,7 +28,7 @@ use std::collections::BinaryHeap;
 use nalgebra::Point3;
 
 use super::blob::{Blob, Judged};
-use super::blobs::{Mask, Window, components};
+use super::blobs::{Mask, Window, components, four_neighbours};
 use super::camera::Camera;
 use super::report::BlobStatus;
 use crate::geometry::{ConvexPolygon, max_separation};
@@ -97,17 +97,7 @@ pub fn part(
             i64::MIN
         }
     };
-    let neighbours = |j: usize| {
-        let (x, y) = (j % w, j / w);
-        [
-            (x > 0).then(|| j - 1),
-            (x + 1 < w).then(|| j + 1),
-            (y > 0).then(|| j - w),
-            (y + 1 < h).then(|| j + w),
-        ]
-        .into_iter()
-        .flatten()
-    };
+    let neighbours = |j: usize| four_neighbours(j, w, h);
     let mut queue = BinaryHeap::new();
     let mut order = 0_u64;
     for j in 0..w * h {
